@@ -1,0 +1,225 @@
+"""The one exception hierarchy of optraj.
+
+Every error that a user can cause derives from :class:`OptrajError`. Subclasses carry the data
+that explains the failure (the offending value, the bound it broke, the solver status), so that
+callers can react programmatically and the message can name the value and the limit.
+
+This module imports nothing from the rest of the project.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable, Sequence
+
+__all__ = [
+    "InfeasibleError",
+    "InvalidInputError",
+    "JointLimitError",
+    "MissingDependencyError",
+    "OptrajError",
+    "SolverError",
+    "UnknownNameError",
+    "UnreachableError",
+    "UnsupportedModelError",
+    "WorkspaceError",
+]
+
+
+class OptrajError(Exception):
+    """Root of every error raised by optraj on bad input or failed planning."""
+
+
+class InvalidInputError(OptrajError, ValueError):
+    """A value has the wrong shape, type or range, or is NaN/inf.
+
+    Attributes:
+        name: Name of the offending argument or field, if known.
+        value: The offending value, if useful to keep.
+    """
+
+    def __init__(self, message: str, *, name: str | None = None, value: object = None) -> None:
+        super().__init__(message)
+        self.name = name
+        self.value = value
+
+
+class UnknownNameError(OptrajError, LookupError):
+    """A name (robot, frame, option, solver) is not one of the known ones.
+
+    Attributes:
+        kind: What was looked up, e.g. ``"robot"`` or ``"frame"``.
+        name: The name that was asked for.
+        known: The valid names.
+    """
+
+    def __init__(self, kind: str, name: str, known: Iterable[str]) -> None:
+        self.kind = kind
+        self.name = name
+        self.known = tuple(known)
+        message = f"unknown {kind} {name!r}; known: {', '.join(self.known) or '(none)'}"
+        close = difflib.get_close_matches(str(name), self.known, n=1)
+        if close:
+            message += f" (did you mean {close[0]!r}?)"
+        super().__init__(message)
+
+    def __str__(self) -> str:
+        # LookupError would otherwise quote the message like a dictionary key.
+        return str(self.args[0])
+
+
+class MissingDependencyError(OptrajError, ImportError):
+    """An optional package is needed for this feature and is not installed.
+
+    Attributes:
+        package: The PyPI distribution that is missing.
+        extra: The optraj extra that installs it, e.g. ``"examples"``.
+    """
+
+    def __init__(self, package: str, extra: str, feature: str) -> None:
+        self.package = package
+        self.extra = extra
+        super().__init__(
+            f"{feature} needs the package {package!r}, which is not installed; "
+            f"install it with: pip install 'optraj[{extra}]'"
+        )
+
+
+class UnsupportedModelError(OptrajError):
+    """A robot model uses a feature (joint type, structure) that optraj does not handle."""
+
+
+class JointLimitError(OptrajError):
+    """A joint value lies outside its limits.
+
+    Attributes:
+        joint: Joint name.
+        quantity: What was limited, e.g. ``"position"`` or ``"velocity"``.
+        value: The offending value.
+        lower: Lower limit.
+        upper: Upper limit.
+        unit: Unit of the value, e.g. ``"rad"`` or ``"m/s"``.
+    """
+
+    def __init__(
+        self,
+        joint: str,
+        value: float,
+        lower: float,
+        upper: float,
+        *,
+        quantity: str = "position",
+        unit: str = "",
+        context: str = "",
+    ) -> None:
+        self.joint = joint
+        self.quantity = quantity
+        self.value = float(value)
+        self.lower = float(lower)
+        self.upper = float(upper)
+        self.unit = unit
+        side = f"below the lower limit {lower:.6g}" if value < lower else ""
+        if value > upper:
+            side = f"above the upper limit {upper:.6g}"
+        unit_text = f" {unit}" if unit else ""
+        prefix = f"{context}: " if context else ""
+        super().__init__(
+            f"{prefix}joint {joint!r} {quantity} {value:.6g}{unit_text} is {side or 'out of range'}"
+            f" (limits [{lower:.6g}, {upper:.6g}]{unit_text})"
+        )
+
+
+class WorkspaceError(OptrajError):
+    """A Cartesian point lies outside the workspace of a robot.
+
+    Attributes:
+        point: The point [m], shape (3,).
+        axis: The axis whose bound is broken (``"x"``, ``"y"`` or ``"z"``).
+        value: The coordinate [m].
+        lower: Lower bound of the workspace along that axis [m].
+        upper: Upper bound of the workspace along that axis [m].
+    """
+
+    def __init__(
+        self, point: Sequence[float], axis: str, value: float, lower: float, upper: float
+    ) -> None:
+        self.point = tuple(float(v) for v in point)
+        self.axis = axis
+        self.value = float(value)
+        self.lower = float(lower)
+        self.upper = float(upper)
+        bound = f"{axis} >= {lower:.6g} m" if value < lower else f"{axis} <= {upper:.6g} m"
+        super().__init__(
+            f"point ({', '.join(f'{v:.6g}' for v in self.point)}) m is outside the workspace: "
+            f"{axis} = {value:.6g} m breaks the bound {bound}"
+        )
+
+
+class UnreachableError(OptrajError):
+    """No joint configuration reaches a target pose (inverse kinematics failed).
+
+    Attributes:
+        position_error: Smallest tool position error reached [m].
+        orientation_error: Orientation error at that solution [rad] (0 for position-only).
+        attempts: Number of starting configurations tried.
+    """
+
+    def __init__(
+        self, message: str, *, position_error: float, orientation_error: float, attempts: int
+    ) -> None:
+        self.position_error = float(position_error)
+        self.orientation_error = float(orientation_error)
+        self.attempts = int(attempts)
+        super().__init__(
+            f"{message} (best of {attempts} attempts: position error {position_error:.3g} m, "
+            f"orientation error {orientation_error:.3g} rad)"
+        )
+
+
+class InfeasibleError(OptrajError):
+    """A motion cannot be made within the robot's limits.
+
+    Attributes:
+        limit: Which limit binds, e.g. ``"velocity"``.
+        joint: The binding joint, if one is known.
+        required: The value the motion needs.
+        allowed: The limit.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        limit: str,
+        joint: str | None = None,
+        required: float | None = None,
+        allowed: float | None = None,
+    ) -> None:
+        self.limit = limit
+        self.joint = joint
+        self.required = required
+        self.allowed = allowed
+        super().__init__(message)
+
+
+class SolverError(OptrajError):
+    """A numerical solver did not return a usable solution.
+
+    Attributes:
+        solver: Solver name, e.g. ``"ipopt"``.
+        status: The solver's own status string.
+        iterations: Iterations done, if known.
+    """
+
+    def __init__(
+        self, solver: str, status: str, *, iterations: int | None = None, detail: str = ""
+    ) -> None:
+        self.solver = solver
+        self.status = status
+        self.iterations = iterations
+        text = f"solver {solver!r} failed with status {status!r}"
+        if iterations is not None:
+            text += f" after {iterations} iterations"
+        if detail:
+            text += f": {detail}"
+        super().__init__(text)

@@ -1,0 +1,118 @@
+"""Checks of user input shared by every package: shapes, finiteness, ranges.
+
+Each function converts its argument to a float NumPy array and raises
+:class:`optraj.errors.InvalidInputError` naming the argument, the value and what was expected.
+Imports nothing from the project but :mod:`optraj.errors`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from optraj.errors import InvalidInputError
+
+__all__ = ["as_array", "as_batch", "as_positive", "as_transform", "as_vector"]
+
+FloatArray = NDArray[np.float64]
+
+
+def _describe(value: object) -> str:
+    text = np.array2string(np.asarray(value), precision=4, threshold=12)
+    return text if len(text) < 120 else text[:117] + "..."
+
+
+def as_array(value: ArrayLike, name: str, shape: tuple[int | None, ...]) -> FloatArray:
+    """Return ``value`` as a finite float array of the given shape.
+
+    Args:
+        value: Anything NumPy can turn into an array.
+        name: Argument name used in the error message.
+        shape: Expected shape; ``None`` in a position accepts any length there.
+
+    Raises:
+        InvalidInputError: Not numeric, wrong shape, or NaN/inf entries.
+    """
+    sizes = ["any" if s is None else str(s) for s in shape]
+    wanted = "(" + ", ".join(sizes) + ("," if len(sizes) == 1 else "") + ")"
+    try:
+        array = np.array(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InvalidInputError(
+            f"{name} must be a numeric array of shape {wanted}, got {value!r}",
+            name=name,
+            value=value,
+        ) from exc
+    if array.ndim != len(shape) or any(
+        want is not None and got != want for got, want in zip(array.shape, shape, strict=True)
+    ):
+        raise InvalidInputError(
+            f"{name} must have shape {wanted}, got shape {array.shape}", name=name, value=value
+        )
+    if not np.all(np.isfinite(array)):
+        raise InvalidInputError(
+            f"{name} must be finite, got {_describe(array)}", name=name, value=value
+        )
+    return array
+
+
+def as_vector(value: ArrayLike, name: str, size: int | None = None) -> FloatArray:
+    """Return ``value`` as a finite 1-D float array, of length ``size`` if given."""
+    return as_array(value, name, (size,))
+
+
+def as_batch(value: ArrayLike, name: str, size: int) -> tuple[FloatArray, bool]:
+    """Accept one vector of length ``size`` or a stack of them.
+
+    Returns:
+        The values as shape (m, size), and whether a single vector was given.
+
+    Raises:
+        InvalidInputError: Wrong shape or non-finite entries.
+    """
+    try:
+        ndim = np.ndim(value)
+    except ValueError:  # ragged nested sequences: let as_array report the shape
+        ndim = -1
+    if ndim == 1:
+        return as_array(value, name, (size,))[None, :], True
+    return as_array(value, name, (None, size)), False
+
+
+def as_positive(value: float, name: str, unit: str = "") -> float:
+    """Return ``value`` as a float that is finite and > 0."""
+    number = float(as_array(value, name, ()))
+    if number <= 0.0:
+        unit_text = f" {unit}" if unit else ""
+        raise InvalidInputError(
+            f"{name} must be > 0{unit_text}, got {number:.6g}{unit_text}", name=name, value=value
+        )
+    return number
+
+
+def as_transform(value: ArrayLike, name: str, tolerance: float = 1e-6) -> FloatArray:
+    """Return ``value`` as a 4x4 homogeneous transform with a proper rotation.
+
+    Args:
+        value: Homogeneous matrix, shape (4, 4).
+        name: Argument name used in the error message.
+        tolerance: Allowed deviation of R^T R from identity and of the last row.
+
+    Raises:
+        InvalidInputError: Wrong shape, non-finite, or not a rigid transform.
+    """
+    transform = as_array(value, name, (4, 4))
+    rotation = transform[:3, :3]
+    orthogonality = float(np.max(np.abs(rotation.T @ rotation - np.eye(3))))
+    if orthogonality > tolerance or np.linalg.det(rotation) < 0.0:
+        raise InvalidInputError(
+            f"{name}[:3, :3] must be a rotation matrix (R^T R = I, det R = +1); "
+            f"max |R^T R - I| = {orthogonality:.3g}, det R = {np.linalg.det(rotation):.6g}",
+            name=name,
+            value=value,
+        )
+    if np.max(np.abs(transform[3] - [0.0, 0.0, 0.0, 1.0])) > tolerance:
+        raise InvalidInputError(
+            f"{name}[3] must be [0, 0, 0, 1], got {_describe(transform[3])}", name=name, value=value
+        )
+    return transform

@@ -1,0 +1,174 @@
+"""Joint limits of a robot: position, velocity, acceleration, jerk and effort."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from optraj.errors import InvalidInputError, JointLimitError
+from optraj.validation import as_batch, as_vector
+
+__all__ = ["JointLimits"]
+
+FloatArray = NDArray[np.float64]
+
+_ARRAY_FIELDS = ("lower", "upper", "velocity", "acceleration", "jerk", "effort")
+
+#: Units of each limited quantity, by joint kind ("rad" for revolute, "m" for prismatic).
+_UNITS = {
+    "position": {"rad": "rad", "m": "m"},
+    "velocity": {"rad": "rad/s", "m": "m/s"},
+    "acceleration": {"rad": "rad/s^2", "m": "m/s^2"},
+    "jerk": {"rad": "rad/s^3", "m": "m/s^3"},
+    "effort": {"rad": "N m", "m": "N"},
+}
+
+
+@dataclass(frozen=True, eq=False)
+class JointLimits:
+    """Box limits of every joint, validated when built.
+
+    Velocity, acceleration, jerk and effort limits are symmetric: the joint may move in
+    ``[-limit, +limit]``.
+
+    Attributes:
+        names: Joint names, length n.
+        kinds: ``"rad"`` for a revolute joint, ``"m"`` for a prismatic one, length n.
+        lower: Lower position limits [rad or m], shape (n,).
+        upper: Upper position limits [rad or m], shape (n,).
+        velocity: Speed limits [rad/s or m/s], shape (n,).
+        acceleration: Acceleration limits [rad/s^2 or m/s^2], shape (n,).
+        jerk: Jerk limits [rad/s^3 or m/s^3], shape (n,).
+        effort: Torque or force limits [N m or N], shape (n,).
+    """
+
+    names: tuple[str, ...]
+    kinds: tuple[str, ...]
+    lower: FloatArray
+    upper: FloatArray
+    velocity: FloatArray
+    acceleration: FloatArray
+    jerk: FloatArray
+    effort: FloatArray
+
+    def __post_init__(self) -> None:
+        n = len(self.names)
+        object.__setattr__(self, "names", tuple(str(name) for name in self.names))
+        object.__setattr__(self, "kinds", tuple(self.kinds))
+        if len(self.kinds) != n or any(kind not in ("rad", "m") for kind in self.kinds):
+            raise InvalidInputError(
+                f"kinds must hold 'rad' or 'm' for each of the {n} joints, got {self.kinds}",
+                name="kinds",
+            )
+        for name in _ARRAY_FIELDS:
+            array = as_vector(getattr(self, name), name, n).copy()
+            array.setflags(write=False)
+            object.__setattr__(self, name, array)
+        for i, joint in enumerate(self.names):
+            if not self.lower[i] < self.upper[i]:
+                raise InvalidInputError(
+                    f"joint {joint!r}: lower position limit {self.lower[i]:.6g} must be below "
+                    f"the upper limit {self.upper[i]:.6g}",
+                    name="lower",
+                )
+        for name in ("velocity", "acceleration", "jerk", "effort"):
+            values = getattr(self, name)
+            bad = np.flatnonzero(values <= 0.0)
+            if bad.size:
+                i = int(bad[0])
+                raise InvalidInputError(
+                    f"joint {self.names[i]!r}: {name} limit must be > 0, got {values[i]:.6g}",
+                    name=name,
+                )
+
+    @property
+    def n(self) -> int:
+        """Number of joints."""
+        return len(self.names)
+
+    def unit(self, quantity: str, joint: int) -> str:
+        """Unit of ``quantity`` (position, velocity, ...) for joint index ``joint``."""
+        return _UNITS[quantity][self.kinds[joint]]
+
+    def contains(self, q: ArrayLike, tolerance: float = 0.0) -> bool | NDArray[np.bool_]:
+        """Whether configurations lie within the position limits.
+
+        Args:
+            q: Joint positions [rad or m], shape (n,) or (m, n).
+            tolerance: Allowed excess beyond each limit [rad or m].
+
+        Returns:
+            One bool for a single configuration, or a bool array of shape (m,).
+        """
+        batch, single = as_batch(q, "q", self.n)
+        inside = np.all(
+            (batch >= self.lower - tolerance) & (batch <= self.upper + tolerance), axis=1
+        )
+        return bool(inside[0]) if single else inside
+
+    def check_position(self, q: ArrayLike, tolerance: float = 0.0, context: str = "") -> None:
+        """Raise if a configuration is outside the position limits.
+
+        Args:
+            q: Joint positions [rad or m], shape (n,).
+            tolerance: Allowed excess beyond each limit [rad or m].
+            context: Prefix for the error message, e.g. ``"IK solution"``.
+
+        Raises:
+            JointLimitError: For the joint that exceeds its limit by the most.
+            InvalidInputError: Wrong shape or non-finite values.
+        """
+        values = as_vector(q, "q", self.n)
+        excess = np.maximum(self.lower - values, values - self.upper)
+        worst = int(np.argmax(excess))
+        if excess[worst] > tolerance:
+            raise JointLimitError(
+                self.names[worst],
+                values[worst],
+                self.lower[worst],
+                self.upper[worst],
+                unit=self.unit("position", worst),
+                context=context,
+            )
+
+    def clip(self, q: ArrayLike) -> FloatArray:
+        """Return ``q`` moved onto the nearest point of the position box (for internal seeds)."""
+        return np.clip(as_vector(q, "q", self.n), self.lower, self.upper)
+
+    def sample(self, rng: np.random.Generator, count: int) -> FloatArray:
+        """Draw configurations uniformly within the position limits.
+
+        Joints whose range is wider than 2 pi (continuous-like joints) are sampled in
+        ``[-pi, pi]`` intersected with their range.
+
+        Args:
+            rng: Random generator; pass a seeded one for reproducible draws.
+            count: Number of configurations.
+
+        Returns:
+            Joint positions [rad or m], shape (count, n).
+        """
+        lower = self.lower.copy()
+        upper = self.upper.copy()
+        wide = np.array([kind == "rad" for kind in self.kinds]) & (upper - lower > 2 * np.pi)
+        lower[wide] = np.maximum(lower[wide], -np.pi)
+        upper[wide] = np.minimum(upper[wide], np.pi)
+        return rng.uniform(lower, upper, size=(int(count), self.n))
+
+    def table(self) -> list[dict[str, object]]:
+        """One dict per joint with its name, unit and every limit, for printing."""
+        return [
+            {
+                "joint": self.names[i],
+                "unit": self.kinds[i],
+                "lower": float(self.lower[i]),
+                "upper": float(self.upper[i]),
+                "velocity": float(self.velocity[i]),
+                "acceleration": float(self.acceleration[i]),
+                "jerk": float(self.jerk[i]),
+                "effort": float(self.effort[i]),
+            }
+            for i in range(self.n)
+        ]

@@ -1,0 +1,109 @@
+"""Tests of robots.ik: numerical IK for every robot, judged by forward kinematics."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import ALL_ROBOTS, get_robot
+
+from optraj.errors import InvalidInputError, UnknownNameError, UnreachableError
+from robots import solve_ik
+
+
+@pytest.mark.parametrize("name", ALL_ROBOTS)
+def test_full_pose_round_trip_1000_random_targets(name):
+    robot = get_robot(name)
+    rng = np.random.default_rng(1000)
+    for q_true in robot.random_configurations(1000, rng):
+        target = robot.tool_pose(q_true)
+        solution = solve_ik(robot, target)
+        np.testing.assert_allclose(robot.tool_pose(solution.q), target, atol=1e-6)
+        assert robot.limits.contains(solution.q)
+
+
+@pytest.mark.parametrize("name", ALL_ROBOTS)
+def test_position_only_round_trip(name):
+    robot = get_robot(name)
+    rng = np.random.default_rng(77)
+    for q_true in robot.random_configurations(200, rng):
+        target = robot.tool_position(q_true)
+        solution = solve_ik(robot, target)
+        np.testing.assert_allclose(robot.tool_position(solution.q), target, atol=1e-6)
+        assert robot.limits.contains(solution.q)
+        assert solution.orientation_error == 0.0
+
+
+@pytest.mark.parametrize("name", ALL_ROBOTS)
+def test_unreachable_target_raises_typed_error(name):
+    robot = get_robot(name)
+    far = robot.tool_position(robot.home) + np.array([5.0, 0.0, 0.0])
+    with pytest.raises(UnreachableError, match="no configuration") as info:
+        solve_ik(robot, far, restarts=5)
+    assert info.value.position_error > 3.0
+    assert info.value.attempts == 6
+
+
+def test_pose_needing_a_joint_beyond_its_limit_is_unreachable():
+    # paddle4's normal can turn at most 90 deg from the arm: a paddle facing back toward the
+    # base (normal = -x) with the arm pointing +x needs J4 = pi, beyond its limit.
+    robot = get_robot("paddle4")
+    target = robot.tool_pose(robot.home)
+    target[:3, :3] = target[:3, :3] @ np.diag([-1.0, 1.0, -1.0])  # turn 180 deg about tool y
+    with pytest.raises(UnreachableError):
+        solve_ik(robot, target, restarts=10)
+
+
+def test_returns_solution_near_q_near_for_youbot():
+    # A 5-DOF arm has isolated pose solutions: starting next to one returns exactly it.
+    robot = get_robot("youbot")
+    rng = np.random.default_rng(9)
+    for q_true in robot.random_configurations(50, rng):
+        q_near = robot.limits.clip(q_true + rng.normal(0.0, 0.02, robot.dof))
+        solution = solve_ik(robot, robot.tool_pose(q_true), q_near=q_near)
+        np.testing.assert_allclose(solution.q, q_true, atol=1e-6)
+
+
+def test_closest_of_several_solutions_is_returned():
+    robot = get_robot("ur5")
+    rng = np.random.default_rng(12)
+    q_near = robot.random_configurations(1, rng)[0]
+    target = robot.tool_pose(robot.random_configurations(1, rng)[0])
+    solution = solve_ik(robot, target, q_near=q_near, min_solutions=4)
+    assert len(solution.solutions) == 4
+    distances = np.linalg.norm(solution.solutions - q_near, axis=1)
+    assert np.linalg.norm(solution.q - q_near) == pytest.approx(distances.min())
+    for q in solution.solutions:
+        np.testing.assert_allclose(robot.tool_pose(q), target, atol=1e-6)
+
+
+def test_results_are_reproducible_for_a_seed():
+    robot = get_robot("sawyer")
+    target = robot.tool_pose(robot.random_configurations(1, np.random.default_rng(3))[0])
+    a = solve_ik(robot, target, min_solutions=3, seed=42)
+    b = solve_ik(robot, target, min_solutions=3, seed=42)
+    np.testing.assert_array_equal(a.solutions, b.solutions)
+
+
+def test_other_frame_can_be_placed():
+    robot = get_robot("sawyer")
+    q_true = robot.random_configurations(1, np.random.default_rng(4))[0]
+    target = robot.frame_pose(q_true, "right_l6")
+    solution = solve_ik(robot, target, frame="right_l6")
+    np.testing.assert_allclose(robot.frame_pose(solution.q, "right_l6"), target, atol=1e-6)
+
+
+@pytest.mark.parametrize(
+    ("target", "kwargs", "error", "match"),
+    [
+        (np.eye(3), {}, InvalidInputError, r"shape \(4, 4\)"),
+        (np.diag([1.0, 1.0, -1.0, 1.0]), {}, InvalidInputError, "rotation matrix"),
+        ([0.5, np.inf, 0.2], {}, InvalidInputError, "finite"),
+        ([0.5, 0.0, 0.2], {"restarts": -1}, InvalidInputError, "restarts"),
+        ([0.5, 0.0, 0.2], {"tolerance": 0.0}, InvalidInputError, "tolerance"),
+        ([0.5, 0.0, 0.2], {"q_near": [0.0, 1.0]}, InvalidInputError, "q_near"),
+        ([0.5, 0.0, 0.2], {"frame": "nope"}, UnknownNameError, "nope"),
+    ],
+)
+def test_bad_input_raises_typed_errors(target, kwargs, error, match):
+    with pytest.raises(error, match=match):
+        solve_ik(get_robot("sawyer"), target, **kwargs)

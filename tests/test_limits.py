@@ -1,0 +1,81 @@
+"""Tests of robots.limits.JointLimits."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from optraj.errors import InvalidInputError, JointLimitError
+from robots import JointLimits
+
+
+def _limits(**overrides):
+    fields = dict(
+        names=("a", "b"),
+        kinds=("rad", "m"),
+        lower=[-1.0, 0.0],
+        upper=[1.0, 0.5],
+        velocity=[2.0, 0.3],
+        acceleration=[5.0, 1.0],
+        jerk=[100.0, 20.0],
+        effort=[10.0, 50.0],
+    )
+    fields.update(overrides)
+    return JointLimits(**fields)
+
+
+def test_arrays_are_read_only_floats():
+    limits = _limits()
+    assert limits.velocity.dtype == float
+    with pytest.raises(ValueError, match="read-only"):
+        limits.velocity[0] = 9.0
+
+
+@pytest.mark.parametrize(
+    ("overrides", "match"),
+    [
+        ({"lower": [1.0, 0.0]}, "'a': lower position limit 1 must be below the upper limit 1"),
+        ({"velocity": [2.0, 0.0]}, "'b': velocity limit must be > 0, got 0"),
+        ({"jerk": [2.0]}, r"jerk must have shape \(2,\)"),
+        ({"kinds": ("rad", "deg")}, "kinds must hold"),
+        ({"effort": [np.inf, 1.0]}, "finite"),
+    ],
+)
+def test_bad_limits_are_rejected(overrides, match):
+    with pytest.raises(InvalidInputError, match=match):
+        _limits(**overrides)
+
+
+def test_contains_and_check_position():
+    limits = _limits()
+    assert limits.contains([0.0, 0.25])
+    np.testing.assert_array_equal(limits.contains([[0.0, 0.25], [0.0, 0.6]]), [True, False])
+    assert limits.contains([0.0, 0.5 + 1e-9], tolerance=1e-8)
+    with pytest.raises(
+        JointLimitError, match=r"joint 'b' position 0.6 m is above the upper limit 0.5"
+    ) as info:
+        limits.check_position([0.0, 0.6])
+    assert info.value.joint == "b"
+
+
+def test_check_position_reports_the_worst_joint():
+    with pytest.raises(JointLimitError) as info:
+        _limits().check_position([1.5, 0.6])  # a exceeds by 0.5 rad, b by 0.1 m
+    assert info.value.joint == "a"
+
+
+def test_sample_is_inside_and_seeded():
+    limits = _limits(lower=[-10.0, 0.0], upper=[10.0, 0.5])
+    a = limits.sample(np.random.default_rng(1), 500)
+    b = limits.sample(np.random.default_rng(1), 500)
+    np.testing.assert_array_equal(a, b)
+    assert a.shape == (500, 2)
+    # A revolute range wider than 2 pi is sampled in [-pi, pi]; prismatic ranges in full.
+    assert np.all(np.abs(a[:, 0]) <= np.pi)
+    assert np.all(limits.contains(a))
+
+
+def test_units_follow_joint_kind():
+    limits = _limits()
+    assert limits.unit("velocity", 0) == "rad/s"
+    assert limits.unit("effort", 1) == "N"

@@ -1,0 +1,42 @@
+"""The README's tour runs as written, and the errors it shows are the ones raised."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import robots
+from optraj.errors import UnknownNameError, WorkspaceError
+
+README = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+
+
+def test_readme_starts_with_the_two_setup_commands():
+    first_block = re.search(r"```bash\n(.*?)```", README, re.S).group(1).splitlines()
+    assert [line.split("#")[0].strip() for line in first_block] == ["make demo", "make test"]
+    assert README.index("```bash") < README.index("optraj is a Python toolkit")
+
+
+def test_tour_runs_and_its_comments_hold():
+    tour = re.search(r"## A short tour\n\n```python\n(.*?)```", README, re.S).group(1)
+    namespace: dict[str, object] = {}
+    exec(compile(tour, "README.md", "exec"), namespace)
+    paddle = namespace["paddle"]
+    np.testing.assert_allclose(
+        robots.paddle4_ik(paddle, [1.1, 0.8, 0.7]), [0.9, 0.3911, 0.9985, -0.3911], atol=1e-4
+    )
+    assert namespace["J"].shape == (6, 7)
+
+
+def test_errors_shown_in_readme_are_verbatim():
+    shown = dict(re.findall(r"^(\w+Error): (.*)$", README, re.M))
+    paddle = robots.load("paddle4")
+    with pytest.raises(WorkspaceError) as workspace:
+        robots.paddle4_ik(paddle, ball=[1.2, 0.0, 0.3])
+    assert shown["WorkspaceError"] == str(workspace.value)
+    with pytest.raises(UnknownNameError) as unknown:
+        robots.load("sawer")
+    assert shown["UnknownNameError"] == str(unknown.value)

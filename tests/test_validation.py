@@ -1,0 +1,59 @@
+"""Tests of optraj.validation."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from optraj.errors import InvalidInputError
+from optraj.validation import as_array, as_batch, as_positive, as_transform, as_vector
+
+
+def test_as_vector_accepts_and_copies_lists():
+    out = as_vector([1, 2, 3], "q", 3)
+    assert out.dtype == float
+    np.testing.assert_array_equal(out, [1.0, 2.0, 3.0])
+
+
+@pytest.mark.parametrize(
+    ("value", "match"),
+    [
+        ([1, 2], r"q must have shape \(3,\), got shape \(2,\)"),
+        ([1, np.nan, 2], "finite"),
+        (["a", 1, 2], r"numeric array of shape \(3,\)"),
+    ],
+)
+def test_as_vector_rejects(value, match):
+    with pytest.raises(InvalidInputError, match=match) as info:
+        as_vector(value, "q", 3)
+    assert info.value.name == "q"
+
+
+def test_as_batch_single_and_stack():
+    one, single = as_batch([0.0, 1.0], "q", 2)
+    assert single and one.shape == (1, 2)
+    many, single = as_batch(np.zeros((5, 2)), "q", 2)
+    assert not single and many.shape == (5, 2)
+    with pytest.raises(InvalidInputError, match="shape"):
+        as_batch([[0.0, 1.0], [1.0]], "q", 2)
+
+
+def test_as_positive():
+    assert as_positive(2, "speed", "m/s") == 2.0
+    with pytest.raises(InvalidInputError, match="speed must be > 0 m/s, got -1 m/s"):
+        as_positive(-1.0, "speed", "m/s")
+
+
+def test_as_transform_checks_rotation_and_last_row():
+    np.testing.assert_array_equal(as_transform(np.eye(4), "T"), np.eye(4))
+    bad = np.eye(4)
+    bad[3, 0] = 1.0
+    with pytest.raises(InvalidInputError, match=r"T\[3\] must be \[0, 0, 0, 1\]"):
+        as_transform(bad, "T")
+    scaled = np.diag([2.0, 1.0, 1.0, 1.0])
+    with pytest.raises(InvalidInputError, match="rotation matrix"):
+        as_transform(scaled, "T")
+
+
+def test_as_array_wildcard_shape():
+    assert as_array(np.zeros((7, 3)), "points", (None, 3)).shape == (7, 3)
