@@ -28,7 +28,7 @@ def _robot_report(name: str, out: TextIO) -> None:
     T = robot.tool_pose(robot.home)
     rpy = pin.rpy.matrixToRpy(T[:3, :3])
     out.write(f"\n{robot.name}: {robot.description}\n")
-    width = max(len(joint) for joint in robot.joint_names) + 2
+    width = max(len(joint) for joint in ("joint", *robot.joint_names)) + 2
     header = (
         f"  {'joint':<{width}}{'unit':>5}{'lower':>10}{'upper':>10}{'home':>10}"
         f"{'vel':>9}{'acc':>9}{'jerk':>9}{'effort':>9}\n"

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import operator
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -455,16 +456,12 @@ class SymbolicModel:
         Raises:
             UnknownNameError: If the frame is unknown.
         """
-        fid = self.frame_id(frame)
-        key = ("pose", fid)
-        if key not in self._cache:
-            kin = self._kinematics()
+
+        def build(fid: int) -> ca.SX:
             rot, pos = self._frame_placement(fid)
-            pose = ca.vertcat(ca.horzcat(rot, pos), ca.horzcat(ca.SX.zeros(1, 3), ca.SX(1.0)))
-            self._cache[key] = ca.Function(
-                f"frame_pose_{self._tag(fid)}", [kin.q], [ca.densify(pose)], ["q"], ["T"]
-            )
-        return self._cache[key]
+            return ca.vertcat(ca.horzcat(rot, pos), ca.horzcat(ca.SX.zeros(1, 3), ca.SX(1.0)))
+
+        return self._frame_function("pose", frame, "T", build)
 
     def frame_position(self, frame: str | int) -> ca.Function:
         """World position of a frame origin.
@@ -479,15 +476,9 @@ class SymbolicModel:
         Raises:
             UnknownNameError: If the frame is unknown.
         """
-        fid = self.frame_id(frame)
-        key = ("position", fid)
-        if key not in self._cache:
-            kin = self._kinematics()
-            _, pos = self._frame_placement(fid)
-            self._cache[key] = ca.Function(
-                f"frame_position_{self._tag(fid)}", [kin.q], [ca.densify(pos)], ["q"], ["p"]
-            )
-        return self._cache[key]
+        return self._frame_function(
+            "position", frame, "p", lambda fid: self._frame_placement(fid)[1]
+        )
 
     def frame_rotation(self, frame: str | int) -> ca.Function:
         """World orientation of a frame.
@@ -502,15 +493,9 @@ class SymbolicModel:
         Raises:
             UnknownNameError: If the frame is unknown.
         """
-        fid = self.frame_id(frame)
-        key = ("rotation", fid)
-        if key not in self._cache:
-            kin = self._kinematics()
-            rot, _ = self._frame_placement(fid)
-            self._cache[key] = ca.Function(
-                f"frame_rotation_{self._tag(fid)}", [kin.q], [ca.densify(rot)], ["q"], ["R"]
-            )
-        return self._cache[key]
+        return self._frame_function(
+            "rotation", frame, "R", lambda fid: self._frame_placement(fid)[0]
+        )
 
     def frame_jacobian(self, frame: str | int) -> ca.Function:
         """World-aligned geometric Jacobian of a frame.
@@ -529,9 +514,8 @@ class SymbolicModel:
         Raises:
             UnknownNameError: If the frame is unknown.
         """
-        fid = self.frame_id(frame)
-        key = ("jacobian", fid)
-        if key not in self._cache:
+
+        def build(fid: int) -> ca.SX:
             kin = self._kinematics()
             _, p_frame = self._frame_placement(fid)
             columns = [ca.SX.zeros(6, 1) for _ in range(self.nv)]
@@ -545,11 +529,9 @@ class SymbolicModel:
                 else:
                     columns[joint.idx_v] = ca.vertcat(axis_world, ca.SX.zeros(3, 1))
                 joint_index = joint.parent
-            jac = ca.horzcat(*columns) if columns else ca.SX.zeros(6, 0)
-            self._cache[key] = ca.Function(
-                f"frame_jacobian_{self._tag(fid)}", [kin.q], [ca.densify(jac)], ["q"], ["J"]
-            )
-        return self._cache[key]
+            return ca.horzcat(*columns) if columns else ca.SX.zeros(6, 0)
+
+        return self._frame_function("jacobian", frame, "J", build)
 
     # -- dynamics ---------------------------------------------------------------------------
 
@@ -588,6 +570,26 @@ class SymbolicModel:
         return self._cache[key]
 
     # -- internals --------------------------------------------------------------------------
+
+    def _frame_function(
+        self, kind: str, frame: str | int, output: str, build: Callable[[int], ca.SX]
+    ) -> ca.Function:
+        """Build (once) and cache the function ``q -> build(frame)`` named after the frame.
+
+        Args:
+            kind: What the function gives (``"pose"``, ``"jacobian"``, ...), part of its name.
+            frame: Frame name or index.
+            output: Name of the function's output.
+            build: Expression of the kinematics symbol ``q`` for a frame index.
+        """
+        fid = self.frame_id(frame)
+        key = (kind, fid)
+        if key not in self._cache:
+            q = self._kinematics().q
+            self._cache[key] = ca.Function(
+                f"frame_{kind}_{self._tag(fid)}", [q], [ca.densify(build(fid))], ["q"], [output]
+            )
+        return self._cache[key]
 
     def _tag(self, fid: int) -> str:
         """Turn a frame name into a valid CasADi function-name suffix."""
