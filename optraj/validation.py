@@ -7,12 +7,14 @@ Imports nothing from the project but :mod:`optraj.errors`.
 
 from __future__ import annotations
 
+import reprlib
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
 
-__all__ = ["as_array", "as_batch", "as_positive", "as_transform", "as_vector"]
+__all__ = ["as_array", "as_batch", "as_count", "as_positive", "as_transform", "as_vector"]
 
 FloatArray = NDArray[np.float64]
 
@@ -36,10 +38,13 @@ def as_array(value: ArrayLike, name: str, shape: tuple[int | None, ...]) -> Floa
     sizes = ["any" if s is None else str(s) for s in shape]
     wanted = "(" + ", ".join(sizes) + ("," if len(sizes) == 1 else "") + ")"
     try:
-        array = np.array(value, dtype=float)
-    except (TypeError, ValueError) as exc:
+        raw = np.asarray(value)
+        if raw.dtype.kind not in "iuf":  # no bools, strings or objects posing as numbers
+            raise TypeError(raw.dtype)
+        array = np.array(raw, dtype=float)
+    except (TypeError, ValueError, OverflowError) as exc:
         raise InvalidInputError(
-            f"{name} must be a numeric array of shape {wanted}, got {value!r}",
+            f"{name} must be a numeric array of shape {wanted}, got {reprlib.repr(value)}",
             name=name,
             value=value,
         ) from exc
@@ -77,6 +82,15 @@ def as_batch(value: ArrayLike, name: str, size: int) -> tuple[FloatArray, bool]:
     if ndim == 1:
         return as_array(value, name, (size,))[None, :], True
     return as_array(value, name, (None, size)), False
+
+
+def as_count(value: object, name: str, minimum: int = 0) -> int:
+    """Return ``value`` as an int >= ``minimum`` (no bools, no fractions)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise InvalidInputError(
+            f"{name} must be an integer >= {minimum}, got {value!r}", name=name, value=value
+        )
+    return int(value)
 
 
 def as_positive(value: float, name: str, unit: str = "") -> float:

@@ -7,8 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from optraj.errors import InvalidInputError, JointLimitError
-from optraj.validation import as_batch, as_vector
+from optraj.errors import InvalidInputError, JointLimitError, UnknownNameError
+from optraj.validation import as_array, as_batch, as_count, as_vector
 
 __all__ = ["JointLimits"]
 
@@ -54,8 +54,14 @@ class JointLimits:
     effort: FloatArray
 
     def __post_init__(self) -> None:
+        if not isinstance(self.names, (list, tuple)) or not all(
+            isinstance(name, str) for name in self.names
+        ):
+            raise InvalidInputError(
+                f"names must be a sequence of joint names, got {self.names!r}", name="names"
+            )
         n = len(self.names)
-        object.__setattr__(self, "names", tuple(str(name) for name in self.names))
+        object.__setattr__(self, "names", tuple(self.names))
         object.__setattr__(self, "kinds", tuple(self.kinds))
         if len(self.kinds) != n or any(kind not in ("rad", "m") for kind in self.kinds):
             raise InvalidInputError(
@@ -90,6 +96,12 @@ class JointLimits:
 
     def unit(self, quantity: str, joint: int) -> str:
         """Unit of ``quantity`` (position, velocity, ...) for joint index ``joint``."""
+        if quantity not in _UNITS:
+            raise UnknownNameError("limited quantity", quantity, _UNITS)
+        if not 0 <= joint < self.n:
+            raise InvalidInputError(
+                f"joint index {joint} is out of range for {self.n} joints", name="joint"
+            )
         return _UNITS[quantity][self.kinds[joint]]
 
     def contains(self, q: ArrayLike, tolerance: float = 0.0) -> bool | NDArray[np.bool_]:
@@ -103,6 +115,7 @@ class JointLimits:
             One bool for a single configuration, or a bool array of shape (m,).
         """
         batch, single = as_batch(q, "q", self.n)
+        tolerance = _tolerance(tolerance)
         inside = np.all(
             (batch >= self.lower - tolerance) & (batch <= self.upper + tolerance), axis=1
         )
@@ -121,6 +134,7 @@ class JointLimits:
             InvalidInputError: Wrong shape or non-finite values.
         """
         values = as_vector(q, "q", self.n)
+        tolerance = _tolerance(tolerance)
         excess = np.maximum(self.lower - values, values - self.upper)
         worst = int(np.argmax(excess))
         if excess[worst] > tolerance:
@@ -140,22 +154,20 @@ class JointLimits:
     def sample(self, rng: np.random.Generator, count: int) -> FloatArray:
         """Draw configurations uniformly within the position limits.
 
-        Joints whose range is wider than 2 pi (continuous-like joints) are sampled in
-        ``[-pi, pi]`` intersected with their range.
-
         Args:
             rng: Random generator; pass a seeded one for reproducible draws.
-            count: Number of configurations.
+            count: Number of configurations, >= 0.
 
         Returns:
             Joint positions [rad or m], shape (count, n).
         """
-        lower = self.lower.copy()
-        upper = self.upper.copy()
-        wide = np.array([kind == "rad" for kind in self.kinds]) & (upper - lower > 2 * np.pi)
-        lower[wide] = np.maximum(lower[wide], -np.pi)
-        upper[wide] = np.minimum(upper[wide], np.pi)
-        return rng.uniform(lower, upper, size=(int(count), self.n))
+        if not isinstance(rng, np.random.Generator):
+            raise InvalidInputError(
+                f"rng must be a numpy.random.Generator (np.random.default_rng(seed)), got "
+                f"{type(rng).__name__}",
+                name="rng",
+            )
+        return rng.uniform(self.lower, self.upper, size=(as_count(count, "count"), self.n))
 
     def table(self) -> list[dict[str, object]]:
         """One dict per joint with its name, unit and every limit, for printing."""
@@ -172,3 +184,11 @@ class JointLimits:
             }
             for i in range(self.n)
         ]
+
+
+def _tolerance(value: float) -> float:
+    """A tolerance as a finite float >= 0."""
+    number = float(as_array(value, "tolerance", ()))
+    if number < 0.0:
+        raise InvalidInputError(f"tolerance must be >= 0, got {number:.6g}", name="tolerance")
+    return number

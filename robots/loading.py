@@ -43,8 +43,10 @@ SAWYER_MAX_CUE_LENGTH = 1.5
 YOUBOT_LOWER = (0.0100692, 0.0100692, -5.02655, 0.0221239, 0.110619)
 YOUBOT_UPPER = (5.84014, 2.61799, -0.015708, 3.4292, 5.64159)
 #: youBot acceleration limits [rad/s^2]; none is published. Our choice: vmax 1.57 rad/s is
-#: reached in about 0.4 s by J1-J3 and 0.26 s by the light wrist joints J4-J5; with these the
-#: gravity plus inertial torque of the outstretched arm stays below the 9.5 N m of J2.
+#: reached in about 0.4 s by J1-J3 and 0.26 s by the light wrist joints J4-J5. They are
+#: kinematic limits only: with the arm stretched out, gravity alone needs 91 % of J2's
+#: 9.5 N m, and all joints accelerating at these limits can need up to 110 % of it, so torque
+#: is checked on its own (planners.check's "torque" finding).
 YOUBOT_ACCELERATION = (4.0, 4.0, 4.0, 6.0, 6.0)
 #: youBot "candle" pose (arm straight up) [rad].
 YOUBOT_CANDLE = (2.949606, 1.134464, -2.548181, 1.788962, 2.923426)

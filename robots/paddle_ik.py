@@ -17,6 +17,8 @@ both agree at C = 0, where every number of the seed lies). The solution is uniqu
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -56,7 +58,8 @@ def paddle4_ik(robot: Robot, ball: ArrayLike, contact_angle: float = 0.0) -> Flo
     Args:
         robot: The ``paddle4`` robot (its joint limits are checked).
         ball: Ball centre in the base frame [m], shape (3,).
-        contact_angle: Angle C of the paddle normal from +x, counter-clockwise about +z [rad].
+        contact_angle: Angle C of the paddle normal from +x, counter-clockwise about +z [rad],
+            in [-2 pi, 2 pi].
 
     Returns:
         q = [J1 [m], J2 [rad], J3 [m], J4 [rad]], shape (4,).
@@ -66,12 +69,20 @@ def paddle4_ik(robot: Robot, ball: ArrayLike, contact_angle: float = 0.0) -> Flo
         JointLimitError: The solution needs a joint beyond its limits; names joint and limit.
         InvalidInputError: Not the paddle4 robot, or malformed input.
     """
-    if robot.name != "paddle4":
-        raise InvalidInputError(
-            f"paddle4_ik solves the paddle4 robot only, got robot {robot.name!r}", name="robot"
-        )
     p = as_vector(ball, "ball", 3)
-    angle = float(as_array(contact_angle, "contact_angle", ()))
+    if not isinstance(robot, Robot) or robot.name != "paddle4":
+        raise InvalidInputError(
+            f"paddle4_ik solves the paddle4 robot only, got {getattr(robot, 'name', robot)!r}",
+            name="robot",
+        )
+    raw_angle = float(as_array(contact_angle, "contact_angle", ()))
+    if abs(raw_angle) > 2 * math.pi:
+        raise InvalidInputError(
+            f"contact_angle must lie in [-2 pi, 2 pi] rad, got {raw_angle:.6g} rad",
+            name="contact_angle",
+        )
+    # Wrapped to [-pi, pi], so that theta4 = C - theta2 keeps theta2's digits.
+    angle = math.remainder(raw_angle, 2 * math.pi)
     for axis, value in zip("xyz", p, strict=True):
         lower, upper = PADDLE4_WORKSPACE[axis]
         if not lower <= value <= upper:

@@ -12,6 +12,7 @@ Conventions used throughout optraj:
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Mapping
 from typing import Any, Literal
 
@@ -94,7 +95,7 @@ class Robot:
             value.setflags(write=False)
             checked[pose_name] = value
         self.poses: dict[str, FloatArray] = checked
-        self._data: pin.Data | None = None
+        self._local = threading.local()
 
     # ------------------------------------------------------------------ basics
 
@@ -103,11 +104,12 @@ class Robot:
 
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
-        state["_data"] = None
+        del state["_local"]
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)
+        self._local = threading.local()
 
     @property
     def dof(self) -> int:
@@ -126,10 +128,11 @@ class Robot:
 
     @property
     def data(self) -> pin.Data:
-        """Pinocchio workspace for this robot (created on first use, not shared)."""
-        if self._data is None:
-            self._data = self.model.createData()
-        return self._data
+        """Pinocchio workspace of the calling thread (one per thread, created on first use)."""
+        data = getattr(self._local, "data", None)
+        if data is None:
+            data = self._local.data = self.model.createData()
+        return data
 
     def frame_id(self, frame: str | None = None) -> int:
         """Pinocchio index of a frame; ``None`` means the tool frame.
@@ -139,6 +142,10 @@ class Robot:
         """
         if frame is None:
             return self.tool_frame_id
+        if not isinstance(frame, str):
+            raise InvalidInputError(
+                f"frame must be a frame name (str) or None, got {frame!r}", name="frame"
+            )
         if not self.model.existFrame(frame):
             raise UnknownNameError(
                 f"frame of robot {self.name!r}", frame, [f.name for f in self.model.frames]
@@ -146,7 +153,12 @@ class Robot:
         return int(self.model.getFrameId(frame))
 
     def random_configurations(self, count: int, rng: np.random.Generator) -> FloatArray:
-        """Configurations drawn uniformly within the position limits, shape (count, n)."""
+        """Configurations drawn uniformly within the position limits, shape (count, n).
+
+        Args:
+            count: How many, >= 0.
+            rng: A seeded ``np.random.default_rng(seed)`` for reproducible draws.
+        """
         return self.limits.sample(rng, count)
 
     # ------------------------------------------------------------ kinematics
@@ -218,8 +230,8 @@ class Robot:
         Returns:
             A float, or shape (m,) for a stack of configurations.
         """
-        if part not in _ROWS:
-            raise UnknownNameError("manipulability part", part, _ROWS)
+        if not isinstance(part, str) or part not in _ROWS:
+            raise UnknownNameError("manipulability part", str(part), _ROWS)
         jac = self.jacobian(q, frame)
         rows = jac[..., _ROWS[part], :]
         values = np.prod(np.linalg.svd(rows, compute_uv=False), axis=-1)
@@ -249,6 +261,7 @@ class Robot:
         out = np.empty_like(qs)
         for k in range(qs.shape[0]):
             out[k] = pin.rnea(self.model, self.data, qs[k], vs[k], accs[k])
+        _require_finite(out, "inverse dynamics")
         return out[0] if single else out
 
     def gravity_torque(self, q: ArrayLike) -> FloatArray:
@@ -257,4 +270,15 @@ class Robot:
         out = np.empty_like(qs)
         for k in range(qs.shape[0]):
             out[k] = pin.computeGeneralizedGravity(self.model, self.data, qs[k])
+        _require_finite(out, "gravity torque")
         return out[0] if single else out
+
+
+def _require_finite(values: FloatArray, what: str) -> None:
+    """Raise when a computation overflowed (inputs too large to be physical)."""
+    if not np.all(np.isfinite(values)):
+        raise InvalidInputError(
+            f"{what} overflowed to a non-finite value; the velocities or accelerations given "
+            "are far beyond anything physical",
+            name="v",
+        )

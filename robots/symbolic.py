@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import operator
 import re
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Literal
@@ -43,6 +44,7 @@ import numpy.typing as npt
 import pinocchio as pin
 
 from optraj.errors import InvalidInputError, UnknownNameError, UnsupportedModelError
+from robots.robot import Robot
 
 __all__ = ["SymbolicModel"]
 
@@ -347,17 +349,29 @@ class SymbolicModel:
     All returned :class:`casadi.Function` objects are ``SX`` based, take column vectors and
     return ``casadi.DM`` values when called with numbers (use ``.full()`` for NumPy).
 
+    Functions are safe to request from several threads (building is serialised).
+
     Args:
-        model: Pinocchio model whose joints (except the universe) are all of type
-            ``JointModelR{X,Y,Z}``, ``JointModelP{X,Y,Z}``, ``JointModelRevoluteUnaligned`` or
-            ``JointModelPrismaticUnaligned``. A private copy is kept.
+        model: A :class:`robots.Robot`, or a Pinocchio model whose joints (except the
+            universe) are all of type ``JointModelR{X,Y,Z}``, ``JointModelP{X,Y,Z}``,
+            ``JointModelRevoluteUnaligned`` or ``JointModelPrismaticUnaligned``. A private copy
+            is kept.
 
     Raises:
         UnsupportedModelError: If the model contains any other joint type.
+        InvalidInputError: If ``model`` is neither a Robot nor a pinocchio.Model.
     """
 
-    def __init__(self, model: pin.Model) -> None:
+    def __init__(self, model: pin.Model | Robot) -> None:
         """Validate ``model`` and prepare lazy construction (see the class docstring)."""
+        if isinstance(model, Robot):
+            model = model.model
+        if not isinstance(model, pin.Model):
+            raise InvalidInputError(
+                f"SymbolicModel needs a robots.Robot or a pinocchio.Model, got "
+                f"{type(model).__name__}",
+                name="model",
+            )
         self._setup(model)
 
     def _setup(self, model: pin.Model) -> None:
@@ -366,6 +380,7 @@ class SymbolicModel:
         self._joints: list[_Joint] = _read_joints(self._model)
         self._kin: _Kinematics | None = None
         self._cache: dict[tuple[str, int], ca.Function] = {}
+        self._lock = threading.RLock()
 
     # -- pickling ---------------------------------------------------------------------------
 
@@ -546,13 +561,14 @@ class SymbolicModel:
             (nv,); ``a`` [rad/s^2 or m/s^2], shape (nv,)) -> ``tau`` [N m or N], shape (nv,).
         """
         key = ("rnea", 0)
-        if key not in self._cache:
-            q = ca.SX.sym("q", self.nq)
-            v = ca.SX.sym("v", self.nv)
-            a = ca.SX.sym("a", self.nv)
-            tau = self._rnea_expression(q, v, a)
-            self._cache[key] = ca.Function("rnea", [q, v, a], [tau], ["q", "v", "a"], ["tau"])
-        return self._cache[key]
+        with self._lock:
+            if key not in self._cache:
+                q = ca.SX.sym("q", self.nq)
+                v = ca.SX.sym("v", self.nv)
+                a = ca.SX.sym("a", self.nv)
+                tau = self._rnea_expression(q, v, a)
+                self._cache[key] = ca.Function("rnea", [q, v, a], [tau], ["q", "v", "a"], ["tau"])
+            return self._cache[key]
 
     def gravity_torque(self) -> ca.Function:
         """Static joint torques that hold the robot against gravity (RNEA with v = a = 0).
@@ -562,12 +578,13 @@ class SymbolicModel:
             ``tau`` [N m or N], shape (nv,).
         """
         key = ("gravity", 0)
-        if key not in self._cache:
-            q = ca.SX.sym("q", self.nq)
-            zeros = ca.SX.zeros(self.nv, 1)
-            tau = self._rnea_expression(q, zeros, zeros)
-            self._cache[key] = ca.Function("gravity_torque", [q], [tau], ["q"], ["tau"])
-        return self._cache[key]
+        with self._lock:
+            if key not in self._cache:
+                q = ca.SX.sym("q", self.nq)
+                zeros = ca.SX.zeros(self.nv, 1)
+                tau = self._rnea_expression(q, zeros, zeros)
+                self._cache[key] = ca.Function("gravity_torque", [q], [tau], ["q"], ["tau"])
+            return self._cache[key]
 
     # -- internals --------------------------------------------------------------------------
 
@@ -584,12 +601,14 @@ class SymbolicModel:
         """
         fid = self.frame_id(frame)
         key = (kind, fid)
-        if key not in self._cache:
-            q = self._kinematics().q
-            self._cache[key] = ca.Function(
-                f"frame_{kind}_{self._tag(fid)}", [q], [ca.densify(build(fid))], ["q"], [output]
-            )
-        return self._cache[key]
+        with self._lock:
+            if key not in self._cache:
+                q = self._kinematics().q
+                expression = ca.densify(build(fid))
+                self._cache[key] = ca.Function(
+                    f"frame_{kind}_{self._tag(fid)}", [q], [expression], ["q"], [output]
+                )
+            return self._cache[key]
 
     def _tag(self, fid: int) -> str:
         """Turn a frame name into a valid CasADi function-name suffix."""
@@ -621,6 +640,10 @@ class SymbolicModel:
 
     def _kinematics(self) -> _Kinematics:
         """Build (once) the symbolic world placement of every joint frame."""
+        with self._lock:
+            return self._build_kinematics()
+
+    def _build_kinematics(self) -> _Kinematics:
         if self._kin is None:
             q = ca.SX.sym("q", self.nq)
             rotations: list[ca.SX] = [ca.SX.eye(3)]

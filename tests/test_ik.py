@@ -95,11 +95,19 @@ def test_other_frame_can_be_placed():
 @pytest.mark.parametrize(
     ("target", "kwargs", "error", "match"),
     [
-        (np.eye(3), {}, InvalidInputError, r"shape \(4, 4\)"),
+        (np.eye(3), {}, InvalidInputError, r"shape \(3,\), or a pose .* shape \(4, 4\)"),
+        (np.zeros((3, 1)), {}, InvalidInputError, "got shape"),
         (np.diag([1.0, 1.0, -1.0, 1.0]), {}, InvalidInputError, "rotation matrix"),
         ([0.5, np.inf, 0.2], {}, InvalidInputError, "finite"),
         ([0.5, 0.0, 0.2], {"restarts": -1}, InvalidInputError, "restarts"),
         ([0.5, 0.0, 0.2], {"tolerance": 0.0}, InvalidInputError, "tolerance"),
+        ([0.5, 0.0, 0.2], {"tolerance": 10.0}, InvalidInputError, "tolerance"),
+        ([0.5, 0.0, 0.2], {"restarts": float("nan")}, InvalidInputError, "restarts"),
+        ([0.5, 0.0, 0.2], {"min_solutions": None}, InvalidInputError, "min_solutions"),
+        ([0.5, 0.0, 0.2], {"max_iterations": True}, InvalidInputError, "max_iterations"),
+        ([0.5, 0.0, 0.2], {"seed": "a"}, InvalidInputError, "seed"),
+        ([0.5, 0.0, 0.2], {"seed": -1}, InvalidInputError, "seed"),
+        ([0.5, 0.0, 0.2], {"axis": [0.0, 0.0, 0.0]}, InvalidInputError, "axis must be non-zero"),
         ([0.5, 0.0, 0.2], {"q_near": [0.0, 1.0]}, InvalidInputError, "q_near"),
         ([0.5, 0.0, 0.2], {"frame": "nope"}, UnknownNameError, "nope"),
     ],
@@ -107,3 +115,19 @@ def test_other_frame_can_be_placed():
 def test_bad_input_raises_typed_errors(target, kwargs, error, match):
     with pytest.raises(error, match=match):
         solve_ik(get_robot("sawyer"), target, **kwargs)
+
+
+def test_robot_must_be_a_robot():
+    with pytest.raises(InvalidInputError, match=r"robots\.Robot"):
+        solve_ik("sawyer", [0.5, 0.0, 0.2])
+
+
+def test_axis_target_leaves_roll_free():
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(31)
+    for q_true in robot.random_configurations(100, rng):
+        T = robot.tool_pose(q_true)
+        solution = solve_ik(robot, T[:3, 3], axis=2.0 * T[:3, 2])  # any length: normalised
+        got = robot.tool_pose(solution.q)
+        np.testing.assert_allclose(got[:3, 3], T[:3, 3], atol=1e-6)
+        np.testing.assert_allclose(got[:3, 2], T[:3, 2], atol=1e-6)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from optraj.errors import InvalidInputError, JointLimitError
+from optraj.errors import InvalidInputError, JointLimitError, UnknownNameError
 from robots import JointLimits
 
 
@@ -64,15 +64,50 @@ def test_check_position_reports_the_worst_joint():
     assert info.value.joint == "a"
 
 
-def test_sample_is_inside_and_seeded():
+def test_sample_covers_the_whole_range_and_is_seeded():
     limits = _limits(lower=[-10.0, 0.0], upper=[10.0, 0.5])
-    a = limits.sample(np.random.default_rng(1), 500)
-    b = limits.sample(np.random.default_rng(1), 500)
+    a = limits.sample(np.random.default_rng(1), 2000)
+    b = limits.sample(np.random.default_rng(1), 2000)
     np.testing.assert_array_equal(a, b)
-    assert a.shape == (500, 2)
-    # A revolute range wider than 2 pi is sampled in [-pi, pi]; prismatic ranges in full.
-    assert np.all(np.abs(a[:, 0]) <= np.pi)
+    assert a.shape == (2000, 2)
     assert np.all(limits.contains(a))
+    # Uniform over [-10, 10]: about 69 % of draws lie beyond +-pi.
+    assert 0.64 < np.mean(np.abs(a[:, 0]) > np.pi) < 0.74
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"rng": 0, "count": 3}, "numpy.random.Generator"),
+        ({"rng": np.random.default_rng(0), "count": -1}, "count must be an integer >= 0"),
+        ({"rng": np.random.default_rng(0), "count": 2.7}, "count must be an integer >= 0"),
+    ],
+)
+def test_sample_rejects_bad_arguments(kwargs, match):
+    with pytest.raises(InvalidInputError, match=match):
+        _limits().sample(**kwargs)
+
+
+@pytest.mark.parametrize("tolerance", [float("nan"), -1e-3, "0.1", True])
+def test_tolerance_must_be_a_finite_non_negative_number(tolerance):
+    with pytest.raises(InvalidInputError, match="tolerance"):
+        _limits().check_position([5.0, 5.0], tolerance=tolerance)
+    with pytest.raises(InvalidInputError, match="tolerance"):
+        _limits().contains([0.0, 0.0], tolerance=tolerance)
+
+
+def test_names_must_be_strings():
+    with pytest.raises(InvalidInputError, match="names must be a sequence of joint names"):
+        _limits(names=None)
+    with pytest.raises(InvalidInputError, match="names must be a sequence of joint names"):
+        _limits(names="ab")
+
+
+def test_unit_rejects_unknown_quantity_and_joint():
+    with pytest.raises(UnknownNameError, match="speed"):
+        _limits().unit("speed", 0)
+    with pytest.raises(InvalidInputError, match="out of range"):
+        _limits().unit("velocity", 2)
 
 
 def test_units_follow_joint_kind():

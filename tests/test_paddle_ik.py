@@ -101,3 +101,13 @@ def test_rejects_other_robots_and_bad_input():
         paddle4_ik(get_robot("sawyer"), (0.8, 0.0, 0.3))
     with pytest.raises(InvalidInputError, match="finite"):
         paddle4_ik(get_robot("paddle4"), (0.8, np.nan, 0.3))
+
+
+def test_large_contact_angles_are_wrapped_or_rejected():
+    robot = get_robot("paddle4")
+    wrapped = paddle4_ik(robot, (0.8, 0.1, 0.3), contact_angle=0.2 - 2 * np.pi)
+    np.testing.assert_allclose(wrapped, paddle4_ik(robot, (0.8, 0.1, 0.3), 0.2), atol=1e-12)
+    with pytest.raises(InvalidInputError, match=r"contact_angle must lie in \[-2 pi, 2 pi\]"):
+        paddle4_ik(robot, (0.8, 0.1, 0.3), contact_angle=1e20)
+    with pytest.raises(InvalidInputError, match="paddle4 robot only"):
+        paddle4_ik("paddle4", (0.8, 0.1, 0.3))

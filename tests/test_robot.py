@@ -269,3 +269,45 @@ def test_robot_pickles_and_keeps_working(any_robot):
     np.testing.assert_array_equal(clone.tool_pose(q), robot.tool_pose(q))
     assert clone.limits.names == robot.limits.names
     np.testing.assert_array_equal(clone.home, robot.home)
+
+
+def test_non_string_frame_and_part_raise_typed_errors():
+    robot = get_robot("sawyer")
+    with pytest.raises(InvalidInputError, match="frame must be a frame name"):
+        robot.frame_pose(robot.home, 3)
+    with pytest.raises(UnknownNameError, match="translation"):
+        robot.manipulability(robot.home, part=["full"])
+
+
+def test_overflowing_dynamics_raise_instead_of_returning_nan():
+    robot = get_robot("paddle4")
+    with pytest.raises(InvalidInputError, match="non-finite"):
+        robot.inverse_dynamics(robot.home, [0.0, 1e160, 0.0, 0.0], np.zeros(4))
+
+
+def test_kinematics_are_thread_safe():
+    import sys
+    import threading
+
+    robot = get_robot("sawyer")
+    qs = robot.random_configurations(400, np.random.default_rng(21))
+    expected = robot.tool_pose(qs)
+    wrong: list[int] = []
+
+    def work(offset: int) -> None:
+        for k in range(offset, offset + 400, 7):
+            i = k % 400
+            if not np.array_equal(robot.tool_pose(qs[i]), expected[i]):
+                wrong.append(i)
+
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(1e-6)  # switch threads as often as possible
+    try:
+        threads = [threading.Thread(target=work, args=(t,)) for t in range(8)]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join()
+    finally:
+        sys.setswitchinterval(interval)
+    assert wrong == []

@@ -11,6 +11,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+import robots
 from optraj.errors import InvalidInputError, UnknownNameError, UnsupportedModelError
 from robots.symbolic import SymbolicModel
 
@@ -269,3 +270,42 @@ def test_mimic_joint_raises() -> None:
     model = pin.buildModelFromXML(MIMIC_URDF, mimic=True)
     with pytest.raises(UnsupportedModelError, match="j2"):
         SymbolicModel(model)
+
+
+def test_accepts_a_robot_and_rejects_other_objects() -> None:
+    robot = robots.load("paddle4")
+    sym = SymbolicModel(robot)
+    q = robot.home
+    np.testing.assert_allclose(
+        _num(sym.frame_pose(robot.tool_frame)(q)), robot.tool_pose(q), atol=1e-12
+    )
+    with pytest.raises(InvalidInputError, match=r"robots\.Robot or a pinocchio\.Model"):
+        SymbolicModel(None)  # type: ignore[arg-type]
+
+
+def test_functions_can_be_requested_from_many_threads() -> None:
+    import sys
+    import threading
+
+    sym = SymbolicModel(robots.load("sawyer"))
+    frames = [f.name for f in sym.model.frames][1:]
+    errors: list[BaseException] = []
+
+    def build(offset: int) -> None:
+        try:
+            for name in frames[offset:] + frames[:offset]:
+                sym.frame_pose(name)(np.zeros(sym.nq))
+        except BaseException as exc:  # collected and asserted below
+            errors.append(exc)
+
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(1e-6)  # switch threads as often as possible
+    try:
+        threads = [threading.Thread(target=build, args=(k,)) for k in range(6)]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join()
+    finally:
+        sys.setswitchinterval(interval)
+    assert errors == []

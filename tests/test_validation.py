@@ -57,3 +57,10 @@ def test_as_transform_checks_rotation_and_last_row():
 
 def test_as_array_wildcard_shape():
     assert as_array(np.zeros((7, 3)), "points", (None, 3)).shape == (7, 3)
+
+
+@pytest.mark.parametrize("value", [True, ["1", "2", "3"], "abc", [10**400, 1, 1], None])
+def test_bools_strings_and_overflow_are_not_numbers(value):
+    shape = () if value in (True, "abc", None) else (3,)
+    with pytest.raises(InvalidInputError, match="numeric array"):
+        as_array(value, "x", shape)
