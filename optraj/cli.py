@@ -1,7 +1,8 @@
 """The ``optraj`` command.
 
-``optraj demo`` runs the main job: for now it loads every robot and prints its joints, limits
-and tool pose at home. ``optraj robots`` lists the robots that can be loaded.
+``optraj demo`` runs the main job: it loads every robot and prints its joints, limits and tool
+pose at home, reproduces the ECE486 seed's paddle table, and shows the independent checker's
+verdict on classic plans. ``optraj robots`` lists the robots that can be loaded.
 Errors print one line to stderr and exit with status 2; the packages are imported lazily so
 that ``optraj --help`` is instant.
 """
@@ -65,7 +66,54 @@ def _cmd_demo(args: argparse.Namespace, out: TextIO) -> int:
             missing.append(f"{name} ({exc})")
     for line in missing:
         out.write(f"\nskipped {line}\n")
+    _seed_table(out)
+    _verdicts(out)
     return 0
+
+
+def _seed_table(out: TextIO) -> None:
+    import numpy as np
+
+    import planners
+    import problems
+
+    problem = problems.seed_paddle_strike()
+    traj = planners.Cubic().plan(problem)
+    times = np.arange(0.0, problem.contact_time + 1e-9, 1.0 / 5.0)
+    out.write(
+        "\npaddle4, seed ECE486: ball (1.1, 0.8, 0.7) m from home, cubic, T = 2 s, 5 Hz\n"
+        f"  {'t [s]':>6}{'J1 [m]':>9}{'J2 [rad]':>10}{'J3 [m]':>9}{'J4 [rad]':>10}\n"
+    )
+    for t, q in zip(times, traj.sample(times).q, strict=True):
+        out.write(f"  {t:>6.1f}{q[0]:>9.4f}{q[1]:>10.4f}{q[2]:>9.4f}{q[3]:>10.4f}\n")
+
+
+def _verdicts(out: TextIO) -> None:
+    import planners
+    import problems
+
+    cases = [
+        ("youBot pick and place", planners.PickAndPlacePlanner(planners.Quintic()),
+         problems.youbot_two_blocks(), ("position", "velocity", "acceleration", "jerk")),
+        ("youBot pick and place", planners.PickAndPlacePlanner(planners.LSPB()),
+         problems.youbot_two_blocks(), ("position", "velocity", "acceleration")),
+        ("Sawyer pool shot 1 m/s", planners.SeedStrike(), problems.sawyer_pool_shot(), None),
+    ]  # fmt: skip
+    out.write(
+        "\nthe independent checker on classic plans (limits checked: see column)\n"
+        f"  {'task':<24}{'planner':<30}{'time [s]':>9}  {'verdict':<8}{'checked / worst finding'}\n"
+    )
+    for task, planner, problem, quantities in cases:
+        traj = planner.plan(problem)
+        report = planners.check(traj, problem, quantities=quantities)
+        worst = report.violations[0] if report.violations else None
+        note = (
+            f"{worst.name}: {worst.detail}"
+            if worst
+            else "+".join(q[:3] for q in (quantities or planners.checker.QUANTITIES)) + ", task"
+        )
+        verdict = "ok" if report.ok else "FAIL"
+        out.write(f"  {task:<24}{planner.name:<30}{traj.duration:>9.3f}  {verdict:<8}{note}\n")
 
 
 def _cmd_robots(args: argparse.Namespace, out: TextIO) -> int:

@@ -18,6 +18,9 @@ __all__ = [
     "JointLimitError",
     "MissingDependencyError",
     "OptrajError",
+    "OptrajWarning",
+    "PathJumpError",
+    "PathJumpWarning",
     "SolverError",
     "UnknownNameError",
     "UnreachableError",
@@ -223,3 +226,36 @@ class SolverError(OptrajError):
         if detail:
             text += f": {detail}"
         super().__init__(text)
+
+
+class PathJumpError(OptrajError):
+    """Following a Cartesian path, the joint solution jumps between neighbouring samples.
+
+    This happens near a singularity or where the IK switches branch; the joint motion would
+    need an unbounded speed there.
+
+    Attributes:
+        time: Time of the jump on the path [s].
+        joint: Joint that jumps the most.
+        jump: Its change between neighbouring samples [rad or m].
+        threshold: The largest change allowed [rad or m].
+    """
+
+    def __init__(self, time: float, joint: str, jump: float, threshold: float) -> None:
+        self.time = float(time)
+        self.joint = joint
+        self.jump = float(jump)
+        self.threshold = float(threshold)
+        super().__init__(
+            f"the joint solution jumps at t = {time:.4g} s: joint {joint!r} changes by "
+            f"{jump:.4g} between neighbouring samples (allowed {threshold:.4g}); the path passes "
+            "near a singularity or the IK changed branch"
+        )
+
+
+class OptrajWarning(UserWarning):
+    """Root of the warnings optraj issues."""
+
+
+class PathJumpWarning(OptrajWarning):
+    """A joint solution jump along a Cartesian path, reported as a warning on request."""

@@ -11,7 +11,8 @@ from optraj import errors
 def test_every_error_derives_from_the_root_and_is_exported():
     for name in errors.__all__:
         cls = getattr(errors, name)
-        assert issubclass(cls, optraj.OptrajError)
+        root = optraj.OptrajWarning if name.endswith("Warning") else optraj.OptrajError
+        assert issubclass(cls, root)
         assert getattr(optraj, name) is cls
     assert set(optraj.__all__) == set(errors.__all__)
 
@@ -73,3 +74,10 @@ def test_infeasible_and_unreachable_carry_data():
 def test_invalid_input_is_a_value_error():
     with pytest.raises(ValueError, match="bad"):
         raise errors.InvalidInputError("bad", name="x", value=1)
+
+
+def test_path_jump_error_names_time_joint_and_size():
+    exc = errors.PathJumpError(0.42, "right_j5", 1.3, 0.1)
+    assert "t = 0.42 s: joint 'right_j5' changes by 1.3" in str(exc)
+    assert (exc.time, exc.joint, exc.jump, exc.threshold) == (0.42, "right_j5", 1.3, 0.1)
+    assert issubclass(errors.PathJumpWarning, UserWarning)

@@ -40,3 +40,13 @@ def test_errors_shown_in_readme_are_verbatim():
     with pytest.raises(UnknownNameError) as unknown:
         robots.load("sawer")
     assert shown["UnknownNameError"] == str(unknown.value)
+
+
+def test_every_python_block_runs():
+    blocks = re.findall(r"```python\n(.*?)```", README, re.S)
+    assert len(blocks) >= 2
+    namespace: dict[str, object] = {}
+    for block in blocks:
+        exec(compile(block, "README.md", "exec"), namespace)
+    report = namespace["report"]
+    assert report.ok, report.summary()  # the pick-and-place the README shows passes

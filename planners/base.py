@@ -1,0 +1,133 @@
+"""The faces every planner shows: ``plan(problem) -> Trajectory``.
+
+Joint-space time scalings (cubic, quintic, LSPB) are :class:`JointProfile` s: they make one
+rest-to-rest move with every joint starting and stopping together (``move``), and from that
+plan a :class:`problems.PointToPoint`. Sequencing planners (via points, pick-and-place) chain
+their moves.
+"""
+
+from __future__ import annotations
+
+import time
+from abc import ABC, abstractmethod
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from optraj.errors import InvalidInputError
+from optraj.validation import as_vector
+from planners.trajectory import Phase, Trajectory
+from problems import PointToPoint
+from robots import JointLimits
+
+__all__ = ["JointProfile", "Planner", "rest_to_rest_inputs", "stamp"]
+
+
+@runtime_checkable
+class Planner(Protocol):
+    """Anything with ``plan(problem) -> Trajectory``."""
+
+    def plan(self, problem: Any) -> Trajectory:
+        """Plan a trajectory for the problem."""
+        ...
+
+
+def stamp(trajectory: Trajectory, planner: str, started: float, **extra: Any) -> Trajectory:
+    """Record how a trajectory was made in its metadata (planner, solve time [s], status)."""
+    trajectory.metadata.update(
+        {
+            "planner": planner,
+            "solve_time": time.perf_counter() - started,
+            "status": "ok",
+            **extra,
+        }
+    )
+    return trajectory
+
+
+class JointProfile(ABC):
+    """A time scaling that moves all joints rest-to-rest, synchronised.
+
+    Subclasses implement :meth:`move`; :meth:`plan` handles a :class:`problems.PointToPoint`
+    that starts and ends at rest.
+    """
+
+    #: Short name recorded in trajectory metadata.
+    name = "profile"
+
+    @abstractmethod
+    def move(
+        self,
+        q_start: ArrayLike,
+        q_goal: ArrayLike,
+        limits: JointLimits,
+        duration: float | None = None,
+    ) -> Trajectory:
+        """One rest-to-rest move; every joint starts and ends together.
+
+        Args:
+            q_start: Start positions [rad or m], shape (n,).
+            q_goal: Goal positions [rad or m], shape (n,).
+            limits: Limits to respect when ``duration`` is None (the fastest such move).
+            duration: Fixed duration [s], or None.
+
+        Returns:
+            The move, with the joint names of ``limits`` and no phases.
+        """
+
+    def plan(self, problem: PointToPoint) -> Trajectory:
+        """Plan a rest-to-rest :class:`problems.PointToPoint` move.
+
+        Raises:
+            InvalidInputError: The problem is not a PointToPoint, or it starts or ends moving
+                (this profile plans rest-to-rest moves).
+        """
+        if not isinstance(problem, PointToPoint):
+            raise InvalidInputError(
+                f"{type(self).__name__} plans a problems.PointToPoint, got "
+                f"{type(problem).__name__}",
+                name="problem",
+            )
+        for label, values in (
+            ("qd_start", problem.qd_start),
+            ("qd_goal", problem.qd_goal),
+            ("qdd_start", problem.qdd_start),
+            ("qdd_goal", problem.qdd_goal),
+        ):
+            if values is not None and np.any(np.asarray(values) != 0.0):
+                raise InvalidInputError(
+                    f"{type(self).__name__} plans rest-to-rest moves; {label} = "
+                    f"{np.round(np.asarray(values), 6).tolist()} is not zero",
+                    name=label,
+                )
+        started = time.perf_counter()
+        traj = self.move(problem.q_start, problem.q_goal, problem.limits, problem.duration)
+        traj = Trajectory(
+            traj.breakpoints,
+            traj.coefficients,
+            joint_names=problem.limits.names,
+            phases=[Phase("move", 0.0, traj.duration)],
+            metadata=traj.metadata,
+        )
+        return stamp(traj, self.name, started)
+
+
+def rest_to_rest_inputs(
+    q_start: ArrayLike, q_goal: ArrayLike, limits: JointLimits, duration: float | None
+) -> tuple[np.ndarray, np.ndarray, float | None]:
+    """Validate the arguments of :meth:`JointProfile.move`.
+
+    Returns:
+        (q_start, q_goal, duration) as arrays of shape (n,) and a float > 0 or None.
+
+    Raises:
+        InvalidInputError: Wrong shapes, non-finite values, or a duration <= 0.
+    """
+    start = as_vector(q_start, "q_start", limits.n)
+    goal = as_vector(q_goal, "q_goal", limits.n)
+    if duration is not None:
+        duration = float(duration)
+        if not np.isfinite(duration) or duration <= 0.0:
+            raise InvalidInputError(f"duration must be > 0 s, got {duration!r}", name="duration")
+    return start, goal, duration

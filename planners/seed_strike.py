@@ -1,0 +1,88 @@
+"""The seed documents' pool shot: pull the cue back, then run the constant-velocity line.
+
+Reproduced as the baseline the other planners are compared with: a cubic joint move from the
+start to the line's entry pose, then :class:`planners.cartesian.LinearTrajectory` from the
+entry to the exit point at the commanded speed, then holding still. The cue jumps from rest to
+full speed at the entry and back to rest at the exit: the checker reports the unbounded
+accelerations this needs.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from optraj.errors import InvalidInputError
+from planners.base import stamp
+from planners.cartesian import LinearTrajectory
+from planners.time_scaling import Cubic
+from planners.trajectory import Phase, Trajectory
+from problems import PoolStrike
+from robots import solve_ik
+
+__all__ = ["SeedStrike"]
+
+
+class SeedStrike:
+    """Plan a :class:`problems.PoolStrike` the way the seed does.
+
+    Args:
+        pull_back_time: Duration of the pull-back move [s]; the shortest cubic within the
+            velocity and acceleration limits when None.
+        hold_time: How long to hold still after the line [s].
+        samples: IK samples along the line.
+    """
+
+    name = "seed (pull back + line)"
+
+    def __init__(
+        self, pull_back_time: float | None = None, hold_time: float = 0.2, samples: int = 100
+    ) -> None:
+        self.pull_back = Cubic(duration=pull_back_time)
+        if not hold_time > 0.0:
+            raise InvalidInputError(f"hold_time must be > 0 s, got {hold_time!r}", name="hold_time")
+        self.hold_time = float(hold_time)
+        self.samples = int(samples)
+
+    def plan(self, problem: PoolStrike) -> Trajectory:
+        """Pull back to the entry pose, strike along the line, hold.
+
+        Raises:
+            UnreachableError: The entry pose or a pose on the line cannot be reached.
+            InfeasibleError: A fixed pull-back time breaks a joint limit.
+        """
+        if not isinstance(problem, PoolStrike):
+            raise InvalidInputError(
+                f"SeedStrike plans a problems.PoolStrike, got {type(problem).__name__}",
+                name="problem",
+            )
+        started = time.perf_counter()
+        robot, limits = problem.robot, problem.limits
+        q_entry = solve_ik(
+            robot, problem.entry_point, axis=problem.direction, q_near=problem.q_contact
+        ).q
+        pull_back = self.pull_back.move(problem.q_start, q_entry, limits)
+        line = LinearTrajectory(
+            problem.entry_point,
+            problem.exit_point,
+            float(problem.speed),
+            robot.tool_pose(q_entry)[:3, :3],
+        )
+        strike = line.to_joints(robot, q_entry, samples=self.samples)
+        q_exit = strike.sample(strike.duration).q
+        hold = Trajectory.constant(q_exit, self.hold_time)
+        t1 = pull_back.duration
+        t2 = t1 + strike.duration
+        joined = pull_back.then(strike, hold)
+        traj = Trajectory(
+            joined.breakpoints,
+            joined.coefficients,
+            joint_names=robot.joint_names,
+            phases=[
+                Phase("pull back", 0.0, t1),
+                Phase("strike", t1, t2),
+                Phase("stop", t2, t2 + self.hold_time),
+            ],
+        )
+        return stamp(traj, self.name, started, q_entry=np.round(q_entry, 6).tolist())

@@ -1,0 +1,503 @@
+r"""The one trajectory type every planner returns: piecewise polynomials in time.
+
+A :class:`Trajectory` holds breakpoints ``0 = t_0 < t_1 < ... < t_K = duration`` and, for each
+segment ``k`` and joint ``j``, a polynomial in the local time ``tau = t - t_k``:
+
+.. math:: q_j(t) = \sum_{i=0}^{d} c_{k,i,j} \, \tau^i, \qquad t_k \le t < t_{k+1}
+
+Segments need not join smoothly: a jump at a breakpoint is kept as it is (the independent
+checker reports it), so that a planner's real output is never smoothed over.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from optraj.errors import InvalidInputError, UnknownNameError
+from optraj.validation import as_array, as_vector
+
+__all__ = ["Phase", "Trajectory", "TrajectorySample"]
+
+FloatArray = NDArray[np.float64]
+
+#: Times this far outside [0, duration] [s] are taken as the end point (round-off).
+TIME_TOLERANCE = 1e-9
+_FORMAT = "optraj.trajectory/1"
+
+
+@dataclass(frozen=True)
+class Phase:
+    """A named time window of a trajectory, e.g. ``approach``, ``strike``, ``stop``.
+
+    Attributes:
+        name: Phase name.
+        t_start: Start time [s].
+        t_end: End time [s], >= t_start.
+    """
+
+    name: str
+    t_start: float
+    t_end: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "t_start", float(self.t_start))
+        object.__setattr__(self, "t_end", float(self.t_end))
+        if not (math.isfinite(self.t_start) and math.isfinite(self.t_end)):
+            raise InvalidInputError(
+                f"phase {self.name!r}: times must be finite, got [{self.t_start}, {self.t_end}]",
+                name="phases",
+            )
+        if self.t_end < self.t_start:
+            raise InvalidInputError(
+                f"phase {self.name!r} ends at {self.t_end:.6g} s before it starts at "
+                f"{self.t_start:.6g} s",
+                name="phases",
+            )
+
+    @property
+    def duration(self) -> float:
+        """Length of the phase [s]."""
+        return self.t_end - self.t_start
+
+
+class TrajectorySample(NamedTuple):
+    """Joint states at some times.
+
+    Attributes:
+        t: Times [s], shape (m,) (or a float for one time).
+        q: Positions [rad or m], shape (m, n) (or (n,)).
+        qd: Velocities [rad/s or m/s], same shape as q.
+        qdd: Accelerations [rad/s^2 or m/s^2], same shape as q.
+        jerk: Jerks [rad/s^3 or m/s^3], same shape as q.
+    """
+
+    t: FloatArray | float
+    q: FloatArray
+    qd: FloatArray
+    qdd: FloatArray
+    jerk: FloatArray
+
+
+def _derivative(coefficients: FloatArray) -> FloatArray:
+    """Coefficients of the time derivative, one degree lower (at least degree 0)."""
+    degree = coefficients.shape[1] - 1
+    if degree == 0:
+        return np.zeros_like(coefficients)
+    powers = np.arange(1, degree + 1, dtype=float)[None, :, None]
+    return coefficients[:, 1:, :] * powers
+
+
+def _jsonable(value: Any) -> Any:
+    """Metadata value as plain JSON data, or ``None`` when it has no JSON form."""
+    if isinstance(value, (str, bool, int)) or value is None:
+        return value
+    if isinstance(value, float):
+        return value if math.isfinite(value) else str(value)
+    if isinstance(value, np.generic):
+        return _jsonable(value.item())
+    if isinstance(value, np.ndarray):
+        return [_jsonable(v) for v in value.tolist()] if value.dtype != object else None
+    if isinstance(value, Mapping):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    return None
+
+
+class Trajectory:
+    """A joint trajectory, continuous in time, stored as piecewise polynomials.
+
+    Args:
+        breakpoints: Segment boundaries [s], shape (K + 1,), strictly increasing from 0.
+        coefficients: Polynomial coefficients, shape (K, d + 1, n): ``coefficients[k, i, j]``
+            multiplies ``(t - t_k)^i`` for joint j on segment k [rad/s^i or m/s^i].
+        joint_names: Names of the n joints; ``q0 .. q{n-1}`` when omitted.
+        phases: Named time windows (approach, strike, ...), within [0, duration].
+        metadata: How the trajectory was made: ``planner`` (name), ``solve_time`` [s],
+            ``status``, ``iterations`` and anything a planner wants to keep (non-JSON values
+            are kept in memory and left out of exports).
+
+    Raises:
+        InvalidInputError: Shapes disagree, breakpoints do not increase from 0, non-finite
+            coefficients, or phases outside [0, duration].
+    """
+
+    def __init__(
+        self,
+        breakpoints: ArrayLike,
+        coefficients: ArrayLike,
+        *,
+        joint_names: Sequence[str] | None = None,
+        phases: Iterable[Phase] = (),
+        metadata: Mapping[str, Any] | None = None,
+    ) -> None:
+        knots = as_vector(breakpoints, "breakpoints")
+        coeffs = as_array(coefficients, "coefficients", (None, None, None))
+        if knots.size < 2 or coeffs.shape[0] != knots.size - 1:
+            raise InvalidInputError(
+                f"coefficients must have one row per segment: {knots.size} breakpoints need "
+                f"shape ({knots.size - 1}, degree + 1, n), got {coeffs.shape}",
+                name="coefficients",
+            )
+        if coeffs.shape[1] < 1 or coeffs.shape[2] < 1:
+            raise InvalidInputError(
+                f"coefficients must have at least one term and one joint, got {coeffs.shape}",
+                name="coefficients",
+            )
+        if knots[0] != 0.0 or np.any(np.diff(knots) <= 0.0):
+            raise InvalidInputError(
+                "breakpoints must start at 0 s and strictly increase, got "
+                f"{np.array2string(knots, precision=6, threshold=8)}",
+                name="breakpoints",
+            )
+        n = coeffs.shape[2]
+        names = tuple(joint_names) if joint_names is not None else tuple(f"q{j}" for j in range(n))
+        if len(names) != n:
+            raise InvalidInputError(
+                f"joint_names must name the {n} joints, got {len(names)} names", name="joint_names"
+            )
+        for array in (knots, coeffs):
+            array.setflags(write=False)
+        self._knots = knots
+        self._coeffs = [coeffs]
+        for _ in range(3):
+            self._coeffs.append(_derivative(self._coeffs[-1]))
+        self.joint_names: tuple[str, ...] = names
+        self.phases: tuple[Phase, ...] = tuple(phases)
+        for phase in self.phases:
+            if phase.t_start < -TIME_TOLERANCE or phase.t_end > self.duration + TIME_TOLERANCE:
+                raise InvalidInputError(
+                    f"phase {phase.name!r} [{phase.t_start:.6g}, {phase.t_end:.6g}] s lies "
+                    f"outside the trajectory [0, {self.duration:.6g}] s",
+                    name="phases",
+                )
+        self.metadata: dict[str, Any] = dict(metadata or {})
+
+    # ---------------------------------------------------------------------- properties
+
+    @property
+    def breakpoints(self) -> FloatArray:
+        """Segment boundaries [s], shape (K + 1,) (read-only)."""
+        return self._knots
+
+    @property
+    def coefficients(self) -> FloatArray:
+        """Position polynomial coefficients, shape (K, d + 1, n) (read-only)."""
+        return self._coeffs[0]
+
+    @property
+    def duration(self) -> float:
+        """Total time [s]."""
+        return float(self._knots[-1])
+
+    @property
+    def dof(self) -> int:
+        """Number of joints."""
+        return int(self._coeffs[0].shape[2])
+
+    @property
+    def degree(self) -> int:
+        """Polynomial degree of the segments."""
+        return int(self._coeffs[0].shape[1] - 1)
+
+    def __repr__(self) -> str:
+        planner = self.metadata.get("planner", "?")
+        phases = ", ".join(p.name for p in self.phases) or "-"
+        return (
+            f"Trajectory(duration={self.duration:.4g} s, dof={self.dof}, "
+            f"segments={len(self._knots) - 1}, planner={planner!r}, phases=[{phases}])"
+        )
+
+    def phase(self, name: str) -> Phase:
+        """The phase called ``name``.
+
+        Raises:
+            UnknownNameError: No such phase; lists the phases.
+        """
+        for phase in self.phases:
+            if phase.name == name:
+                return phase
+        raise UnknownNameError("phase", name, [p.name for p in self.phases])
+
+    # ------------------------------------------------------------------------ sampling
+
+    def sample(self, t: ArrayLike) -> TrajectorySample:
+        """Joint positions, velocities, accelerations and jerks at the given times.
+
+        At a breakpoint the segment that starts there is used (values are right-continuous),
+        except at the final time.
+
+        Args:
+            t: One time or an array of times [s], within [0, duration].
+
+        Returns:
+            The sample; arrays of shape (m, n) for m times, (n,) for one time.
+
+        Raises:
+            InvalidInputError: A time is not finite or lies outside [0, duration].
+        """
+        scalar = np.ndim(t) == 0
+        times = as_array(t, "t", ()) if scalar else as_vector(t, "t")
+        times = np.atleast_1d(times)
+        if times.size and (
+            times.min() < -TIME_TOLERANCE or times.max() > self.duration + TIME_TOLERANCE
+        ):
+            bad = times[(times < -TIME_TOLERANCE) | (times > self.duration + TIME_TOLERANCE)][0]
+            raise InvalidInputError(
+                f"time {bad:.6g} s is outside the trajectory [0, {self.duration:.6g}] s",
+                name="t",
+                value=bad,
+            )
+        times = np.clip(times, 0.0, self.duration)
+        segment = np.clip(np.searchsorted(self._knots, times, side="right") - 1, 0, None)
+        segment = np.minimum(segment, len(self._knots) - 2)
+        tau = (times - self._knots[segment])[:, None]
+        values = []
+        for coeffs in self._coeffs:
+            rows = coeffs[segment]  # (m, d + 1, n)
+            result = rows[:, -1, :].copy()
+            for i in range(rows.shape[1] - 2, -1, -1):
+                result = result * tau + rows[:, i, :]
+            values.append(result)
+        if scalar:
+            return TrajectorySample(float(times[0]), *(v[0] for v in values))
+        return TrajectorySample(times, *values)
+
+    def times(self, rate: float = 1000.0, *, include_breakpoints: bool = True) -> FloatArray:
+        """Evenly spaced times at ``rate`` [Hz] from 0 to the end, plus every breakpoint.
+
+        Args:
+            rate: Sampling rate [Hz], > 0.
+            include_breakpoints: Also include every breakpoint (and the times just before
+                each, so that jumps are seen from both sides).
+        """
+        if not (math.isfinite(rate) and rate > 0.0):
+            raise InvalidInputError(f"rate must be > 0 Hz, got {rate!r}", name="rate")
+        count = max(math.ceil(self.duration * rate), 1)
+        grid = np.linspace(0.0, self.duration, count + 1)
+        if include_breakpoints:
+            inner = self._knots[1:-1]
+            before = np.maximum(inner - 1e-9 * max(self.duration, 1.0), 0.0)
+            grid = np.unique(np.concatenate([grid, self._knots, before]))
+        return grid
+
+    # -------------------------------------------------------------------- construction
+
+    @classmethod
+    def from_hermite(
+        cls,
+        times: ArrayLike,
+        q: ArrayLike,
+        qd: ArrayLike,
+        qdd: ArrayLike | None = None,
+        **kwargs: Any,
+    ) -> Trajectory:
+        """Interpolate states: cubic Hermite from (q, qd), quintic Hermite with qdd too.
+
+        Each segment matches the given position and velocity (and acceleration) at both ends,
+        so the result is C1 (C2 with qdd) and passes through every sample.
+
+        Args:
+            times: Sample times [s], shape (m,), strictly increasing from 0.
+            q: Positions [rad or m], shape (m, n).
+            qd: Velocities [rad/s or m/s], shape (m, n).
+            qdd: Accelerations [rad/s^2 or m/s^2], shape (m, n), or None for cubic segments.
+            **kwargs: joint_names, phases, metadata, as for the constructor.
+        """
+        t = as_vector(times, "times")
+        m = t.size
+        pos = as_array(q, "q", (m, None))
+        vel = as_array(qd, "qd", pos.shape)
+        h = np.diff(t)[:, None]
+        if np.any(h <= 0.0):
+            raise InvalidInputError("times must strictly increase", name="times")
+        p0, p1, v0, v1 = pos[:-1], pos[1:], vel[:-1], vel[1:]
+        if qdd is None:
+            c2 = (3 * (p1 - p0) - (2 * v0 + v1) * h) / h**2
+            c3 = (2 * (p0 - p1) + (v0 + v1) * h) / h**3
+            coeffs = np.stack([p0, v0, c2, c3], axis=1)
+        else:
+            acc = as_array(qdd, "qdd", pos.shape)
+            a0, a1 = acc[:-1], acc[1:]
+            # Solve the end conditions for c3, c4, c5 in closed form.
+            dp = p1 - p0 - v0 * h - 0.5 * a0 * h**2
+            dv = v1 - v0 - a0 * h
+            da = a1 - a0
+            c3 = (20 * dp - 8 * dv * h + da * h**2) / (2 * h**3)
+            c4 = (-30 * dp + 14 * dv * h - 2 * da * h**2) / (2 * h**4)
+            c5 = (12 * dp - 6 * dv * h + da * h**2) / (2 * h**5)
+            coeffs = np.stack([p0, v0, 0.5 * a0, c3, c4, c5], axis=1)
+        return cls(t - t[0], coeffs, **kwargs)
+
+    @classmethod
+    def constant(cls, q: ArrayLike, duration: float, **kwargs: Any) -> Trajectory:
+        """Stand still at ``q`` [rad or m] for ``duration`` [s]."""
+        value = as_vector(q, "q")
+        if not (math.isfinite(duration) and duration > 0.0):
+            raise InvalidInputError(f"duration must be > 0 s, got {duration!r}", name="duration")
+        return cls([0.0, duration], value[None, None, :], **kwargs)
+
+    def then(self, *others: Trajectory, metadata: Mapping[str, Any] | None = None) -> Trajectory:
+        """This trajectory followed by others, each shifted to start where the previous ends.
+
+        Degrees are raised to the highest one; phases are shifted along. Continuity between
+        the pieces is not enforced: a mismatch stays visible to the checker.
+        """
+        pieces = (self, *others)
+        for piece in others:
+            if piece.dof != self.dof:
+                raise InvalidInputError(
+                    f"cannot join trajectories of {self.dof} and {piece.dof} joints",
+                    name="others",
+                )
+        degree = max(piece.degree for piece in pieces)
+        knots: list[FloatArray] = []
+        rows: list[FloatArray] = []
+        phases: list[Phase] = []
+        offset = 0.0
+        for piece in pieces:
+            knots.append(piece.breakpoints[:-1] + offset)
+            coeffs = piece.coefficients
+            pad = np.zeros((coeffs.shape[0], degree + 1, coeffs.shape[2]))
+            pad[:, : coeffs.shape[1], :] = coeffs
+            rows.append(pad)
+            phases.extend(Phase(p.name, p.t_start + offset, p.t_end + offset) for p in piece.phases)
+            offset += piece.duration
+        knots.append(np.array([offset]))
+        merged = dict(metadata) if metadata is not None else dict(self.metadata)
+        return Trajectory(
+            np.concatenate(knots),
+            np.concatenate(rows),
+            joint_names=self.joint_names,
+            phases=phases,
+            metadata=merged,
+        )
+
+    # ------------------------------------------------------------------------- export
+
+    def to_arrays(self, rate: float = 1000.0) -> dict[str, FloatArray]:
+        """Samples at ``rate`` [Hz] (and every breakpoint) as NumPy arrays.
+
+        Returns:
+            ``{"t": (m,), "q": (m, n), "qd": (m, n), "qdd": (m, n), "jerk": (m, n)}``.
+        """
+        sample = self.sample(self.times(rate))
+        return {
+            "t": np.asarray(sample.t),
+            "q": sample.q,
+            "qd": sample.qd,
+            "qdd": sample.qdd,
+            "jerk": sample.jerk,
+        }
+
+    def to_dict(self) -> dict[str, Any]:
+        """The exact trajectory as plain JSON-ready data (metadata without non-JSON values)."""
+        metadata = {k: _jsonable(v) for k, v in self.metadata.items()}
+        return {
+            "format": _FORMAT,
+            "joint_names": list(self.joint_names),
+            "breakpoints": self._knots.tolist(),
+            "coefficients": self.coefficients.tolist(),
+            "phases": [
+                {"name": p.name, "t_start": p.t_start, "t_end": p.t_end} for p in self.phases
+            ],
+            "metadata": {k: v for k, v in metadata.items() if v is not None},
+        }
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> Trajectory:
+        """Rebuild a trajectory from :meth:`to_dict` output.
+
+        Raises:
+            InvalidInputError: Missing fields or another format.
+        """
+        if not isinstance(data, Mapping) or data.get("format") != _FORMAT:
+            found = data.get("format") if isinstance(data, Mapping) else type(data).__name__
+            raise InvalidInputError(
+                f"not an optraj trajectory: expected format {_FORMAT!r}, got {found!r}",
+                name="data",
+            )
+        try:
+            return cls(
+                data["breakpoints"],
+                data["coefficients"],
+                joint_names=data.get("joint_names"),
+                phases=[Phase(p["name"], p["t_start"], p["t_end"]) for p in data["phases"]],
+                metadata=data.get("metadata", {}),
+            )
+        except (KeyError, TypeError) as exc:
+            raise InvalidInputError(
+                f"trajectory data is missing or has a malformed field: {exc}", name="data"
+            ) from exc
+
+    def to_json(self, path: str | Path | None = None) -> str:
+        """The exact trajectory as JSON text; also written to ``path`` when given."""
+        text = json.dumps(self.to_dict(), indent=1)
+        if path is not None:
+            Path(path).write_text(text)
+        return text
+
+    @classmethod
+    def from_json(cls, source: str | Path) -> Trajectory:
+        """Read a trajectory from JSON text or from a file path.
+
+        Raises:
+            InvalidInputError: Not valid JSON or not an optraj trajectory.
+        """
+        text = str(source)
+        if not text.lstrip().startswith("{"):
+            path = Path(source)
+            if not path.is_file():
+                raise InvalidInputError(f"no trajectory file at {str(path)!r}", name="source")
+            text = path.read_text()
+        try:
+            data = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise InvalidInputError(f"trajectory JSON is malformed: {exc}", name="source") from exc
+        return cls.from_dict(data)
+
+    def to_csv(self, path: str | Path, rate: float = 1000.0) -> None:
+        """Write samples at ``rate`` [Hz]: columns t, q_<joint>, qd_<joint>, qdd_, jerk_."""
+        arrays = self.to_arrays(rate)
+        header = ["t"] + [
+            f"{prefix}_{name}" for prefix in ("q", "qd", "qdd", "jerk") for name in self.joint_names
+        ]
+        table = np.column_stack([arrays[key] for key in ("t", "q", "qd", "qdd", "jerk")])
+        with Path(path).open("w", newline="") as handle:
+            writer = csv.writer(handle)
+            writer.writerow(header)
+            writer.writerows(table.tolist())
+
+    def to_ros(self, rate: float | None = None) -> dict[str, Any]:
+        """A dict shaped like ROS ``trajectory_msgs/JointTrajectory`` (no ROS needed).
+
+        Args:
+            rate: Point rate [Hz]; the breakpoints only when ``None``.
+
+        Returns:
+            ``{"joint_names": [...], "points": [{"positions", "velocities", "accelerations",
+            "time_from_start": {"sec", "nanosec"}}, ...]}``.
+        """
+        times = self._knots if rate is None else self.times(rate, include_breakpoints=False)
+        sample = self.sample(times)
+        points = []
+        for k, t in enumerate(np.atleast_1d(sample.t)):
+            sec, nanosec = divmod(round(float(t) * 1e9), 1_000_000_000)
+            points.append(
+                {
+                    "positions": sample.q[k].tolist(),
+                    "velocities": sample.qd[k].tolist(),
+                    "accelerations": sample.qdd[k].tolist(),
+                    "time_from_start": {"sec": sec, "nanosec": nanosec},
+                }
+            )
+        return {"joint_names": list(self.joint_names), "points": points}

@@ -1,0 +1,115 @@
+"""Checks shared by the problem dataclasses."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from optraj.errors import InvalidInputError, JointLimitError
+from optraj.validation import as_array, as_vector
+from robots import JointLimits, Robot
+
+__all__ = [
+    "check_robot",
+    "joint_state",
+    "non_negative",
+    "positive",
+    "resolve_limits",
+    "unit_vector",
+]
+
+FloatArray = NDArray[np.float64]
+
+
+def check_robot(robot: object, wanted: str | None = None) -> Robot:
+    """Return ``robot`` if it is a :class:`robots.Robot` (named ``wanted`` when given)."""
+    if not isinstance(robot, Robot):
+        raise InvalidInputError(
+            f"robot must be a robots.Robot (from robots.load), got {type(robot).__name__}",
+            name="robot",
+        )
+    if wanted is not None and robot.name != wanted:
+        raise InvalidInputError(
+            f"this problem needs the {wanted!r} robot, got {robot.name!r}", name="robot"
+        )
+    return robot
+
+
+def positive(value: float, name: str, unit: str) -> float:
+    """``value`` as a finite float > 0, or a typed error naming it."""
+    number = float(as_array(value, name, ()))
+    if number <= 0.0:
+        raise InvalidInputError(f"{name} must be > 0 {unit}, got {number:.6g} {unit}", name=name)
+    return number
+
+
+def non_negative(value: float, name: str, unit: str) -> float:
+    """``value`` as a finite float >= 0, or a typed error naming it."""
+    number = float(as_array(value, name, ()))
+    if number < 0.0:
+        raise InvalidInputError(f"{name} must be >= 0 {unit}, got {number:.6g} {unit}", name=name)
+    return number
+
+
+def unit_vector(value: ArrayLike, name: str) -> FloatArray:
+    """``value`` (shape (3,)) scaled to unit length; a zero vector is an error."""
+    vector = as_vector(value, name, 3)
+    norm = float(np.linalg.norm(vector))
+    if norm < 1e-9:
+        raise InvalidInputError(f"{name} must be a non-zero direction, got {vector}", name=name)
+    return vector / norm
+
+
+def joint_state(
+    limits: JointLimits,
+    q: ArrayLike | None,
+    qd: ArrayLike | None,
+    qdd: ArrayLike | None,
+    label: str,
+) -> tuple[FloatArray | None, FloatArray, FloatArray | None]:
+    """Validate a joint state against the limits; a missing velocity means rest.
+
+    Returns:
+        (q or None, qd, qdd or None), each shape (n,).
+
+    Raises:
+        JointLimitError: A position, speed or acceleration beyond its limit.
+        InvalidInputError: Wrong shape or non-finite values.
+    """
+    n = limits.n
+    position = None if q is None else as_vector(q, f"q_{label}", n)
+    if position is not None:
+        limits.check_position(position, tolerance=1e-9, context=f"q_{label}")
+    velocity = np.zeros(n) if qd is None else as_vector(qd, f"qd_{label}", n)
+    acceleration = None if qdd is None else as_vector(qdd, f"qdd_{label}", n)
+    for values, bound, quantity in (
+        (velocity, limits.velocity, "velocity"),
+        (acceleration, limits.acceleration, "acceleration"),
+    ):
+        if values is None:
+            continue
+        excess = np.abs(values) - bound
+        worst = int(np.argmax(excess))
+        if excess[worst] > 1e-9:
+            raise JointLimitError(
+                limits.names[worst],
+                values[worst],
+                -bound[worst],
+                bound[worst],
+                quantity=quantity,
+                unit=limits.unit(quantity, worst),
+                context=f"{quantity} at the {label}",
+            )
+    return position, velocity, acceleration
+
+
+def resolve_limits(robot: Robot, limits: JointLimits | None) -> JointLimits:
+    """The limits to plan for: ``limits`` if given (for the robot's joints), else the robot's."""
+    if limits is None:
+        return robot.limits
+    if not isinstance(limits, JointLimits) or limits.names != robot.joint_names:
+        raise InvalidInputError(
+            f"limits must be a robots.JointLimits for the joints {robot.joint_names}",
+            name="limits",
+        )
+    return limits

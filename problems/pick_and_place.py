@@ -1,0 +1,153 @@
+"""Pick blocks and stack them on a pile (the youBot task of seed Coursework 3, Q2)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from optraj.errors import InvalidInputError, UnreachableError
+from optraj.validation import as_array, as_vector
+from problems.common import check_robot, joint_state, positive, resolve_limits, unit_vector
+from problems.constraints import BoundaryState, Constraint, ToolContact
+from robots import JointLimits, Robot, solve_ik
+
+__all__ = ["PHASES", "PickAndPlace"]
+
+#: The seven phases of each object, in order (suffixed ``_<object index>`` in trajectories).
+PHASES = (
+    "interim",  # go to the interim pose
+    "turn_to_object",  # turn and reach above the object
+    "descend",  # go down onto the object
+    "grasp",  # close the gripper (dwell)
+    "back_to_interim",  # return to the interim pose with the object
+    "turn_to_target",  # turn and reach above the pile
+    "release",  # go down onto the pile and open the gripper (dwell)
+)
+
+
+@dataclass(frozen=True, eq=False)
+class PickAndPlace:
+    """Move blocks one by one onto a pile, gripping them from above.
+
+    Object k is gripped at ``picks[k]`` and released at ``pile + k * block_height * z``.
+    Every approach comes from ``clearance`` above along the gripper axis ``approach``.
+
+    Attributes:
+        robot: The robot (``robots.load("youbot")``); its tool frame is the gripper TCP.
+        picks: Block centres where they are gripped [m], shape (k, 3).
+        pile: Centre of the first block placed on the pile [m], shape (3,).
+        block_height: Height of a block [m].
+        clearance: Height above a grip or release point where the descent starts [m].
+        approach: Direction of the tool z axis while gripping, shape (3,) (down by default).
+        grasp_time: Dwell to close or open the gripper [s].
+        q_start: Start (and end) configuration; the robot's home when None.
+        q_interim: Interim configuration between objects; q_start when None.
+        limits: Limits to plan for; the robot's when None.
+        position_tolerance: [m].
+        angle_tolerance: [rad].
+
+    Derived (IK when built, shape (k, n)): ``q_above_pick``, ``q_pick``, ``q_above_place``,
+    ``q_place`` [rad].
+    """
+
+    robot: Robot
+    picks: ArrayLike
+    pile: ArrayLike
+    block_height: float = 0.03
+    clearance: float = 0.05
+    approach: ArrayLike = (0.0, 0.0, -1.0)
+    grasp_time: float = 0.5
+    q_start: ArrayLike | None = None
+    q_interim: ArrayLike | None = None
+    limits: JointLimits | None = None
+    position_tolerance: float = 1e-6
+    angle_tolerance: float = 1e-6
+    q_above_pick: np.ndarray = field(init=False, repr=False, default=None)  # type: ignore[assignment]
+    q_pick: np.ndarray = field(init=False, repr=False, default=None)  # type: ignore[assignment]
+    q_above_place: np.ndarray = field(init=False, repr=False, default=None)  # type: ignore[assignment]
+    q_place: np.ndarray = field(init=False, repr=False, default=None)  # type: ignore[assignment]
+
+    def __post_init__(self) -> None:
+        robot = check_robot(self.robot)
+        limits = resolve_limits(robot, self.limits)
+        set_ = object.__setattr__
+        set_(self, "limits", limits)
+        picks = as_array(self.picks, "picks", (None, 3))
+        if picks.shape[0] < 1:
+            raise InvalidInputError("picks needs at least one block", name="picks")
+        set_(self, "picks", picks)
+        set_(self, "pile", as_vector(self.pile, "pile", 3))
+        set_(self, "block_height", positive(self.block_height, "block_height", "m"))
+        set_(self, "clearance", positive(self.clearance, "clearance", "m"))
+        set_(self, "approach", unit_vector(self.approach, "approach"))
+        set_(self, "grasp_time", positive(self.grasp_time, "grasp_time", "s"))
+        q_start, _, _ = joint_state(
+            limits, robot.home if self.q_start is None else self.q_start, None, None, "start"
+        )
+        set_(self, "q_start", q_start)
+        interim = q_start if self.q_interim is None else self.q_interim
+        set_(self, "q_interim", joint_state(limits, interim, None, None, "interim")[0])
+
+        lift = -self.clearance * np.asarray(self.approach)
+        solutions: dict[str, list[np.ndarray]] = {key: [] for key in ("ap", "p", "al", "l")}
+        for k in range(picks.shape[0]):
+            for key_above, key_at, point, what in (
+                ("ap", "p", picks[k], f"pick {k}"),
+                ("al", "l", self.place_point(k), f"place {k}"),
+            ):
+                above = self._ik(point + lift, self.q_interim, f"above {what}")
+                solutions[key_above].append(above)
+                solutions[key_at].append(self._ik(point, above, what))
+        set_(self, "q_above_pick", np.array(solutions["ap"]))
+        set_(self, "q_pick", np.array(solutions["p"]))
+        set_(self, "q_above_place", np.array(solutions["al"]))
+        set_(self, "q_place", np.array(solutions["l"]))
+
+    def _ik(self, point: np.ndarray, q_near: np.ndarray, what: str) -> np.ndarray:
+        try:
+            return solve_ik(self.robot, point, axis=self.approach, q_near=q_near).q
+        except UnreachableError as exc:
+            raise UnreachableError(
+                f"{what} at ({', '.join(f'{v:.4g}' for v in point)}) m is out of reach with "
+                f"the gripper along {np.round(self.approach, 3).tolist()}",
+                position_error=exc.position_error,
+                orientation_error=exc.orientation_error,
+                attempts=exc.attempts,
+            ) from exc
+
+    @property
+    def count(self) -> int:
+        """Number of blocks."""
+        return int(np.asarray(self.picks).shape[0])
+
+    def place_point(self, k: int) -> np.ndarray:
+        """Where block k is released: its centre on top of the pile [m], shape (3,)."""
+        return np.asarray(self.pile) + k * float(self.block_height) * np.array([0.0, 0.0, 1.0])
+
+    def constraints(self) -> tuple[Constraint, ...]:
+        """Rest at q_start; the gripper on each block while gripping and releasing; rest."""
+        n = self.limits.n
+        items: list[Constraint] = [BoundaryState("start", np.asarray(self.q_start), np.zeros(n))]
+        for k in range(self.count):
+            # The grasp is a dwell on the block; the release phase descends and then dwells.
+            for phase, at, point in (
+                ("grasp", "start", np.asarray(self.picks)[k]),
+                ("grasp", "end", np.asarray(self.picks)[k]),
+                ("release", "end", self.place_point(k)),
+            ):
+                items.append(
+                    ToolContact(
+                        position=point,
+                        axis=np.asarray(self.approach),
+                        velocity=np.zeros(3),
+                        phase=f"{phase}_{k}",
+                        at=at,  # type: ignore[arg-type]
+                        label=f"{phase} {k} ({at})",
+                        position_tolerance=self.position_tolerance,
+                        angle_tolerance=self.angle_tolerance,
+                    )
+                )
+        items.append(BoundaryState("end", None, np.zeros(n)))
+        return tuple(items)

@@ -1,0 +1,156 @@
+"""A pool shot: the cue tip runs along a line through the ball at a commanded speed."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from optraj.errors import InvalidInputError
+from optraj.validation import as_vector
+from problems.common import (
+    check_robot,
+    joint_state,
+    non_negative,
+    positive,
+    resolve_limits,
+    unit_vector,
+)
+from problems.constraints import (
+    STRIKE_ANGLE_TOLERANCE,
+    STRIKE_POSITION_TOLERANCE,
+    STRIKE_SPEED_TOLERANCE,
+    BoundaryState,
+    Constraint,
+    StrikeLine,
+)
+from robots import JointLimits, Robot, solve_ik
+
+__all__ = ["POOL_BALL_RADIUS", "PoolStrike"]
+
+#: Radius of a pool ball [m] (standard diameter 57.15 mm, 2.25 in).
+POOL_BALL_RADIUS = 0.028575
+
+
+@dataclass(frozen=True, eq=False)
+class PoolStrike:
+    """Strike a ball with the cue tip: constant speed along a line, cue axis on the line.
+
+    The tool (cue tip) starts at rest at ``q_start``, enters the strike line ``run_up``
+    before the contact point, moves along it at ``speed`` with its z axis (the cue axis) along
+    ``direction`` (roll free), meets the ball surface at ``ball - ball_radius * direction``,
+    keeps going for ``follow_through``, then stops anywhere at rest.
+
+    Attributes:
+        robot: The robot; its tool frame is the cue tip (``robots.load("sawyer")``).
+        ball: Ball centre [m], shape (3,).
+        direction: Shot direction, shape (3,) (normalised here).
+        speed: Cue tip speed during the strike [m/s].
+        run_up: Distance at constant speed before contact [m].
+        follow_through: Distance at constant speed after contact [m].
+        ball_radius: [m].
+        q_start: Start configuration [rad]; the robot's home when None.
+        limits: Limits to plan for; the robot's when None.
+        position_tolerance: Allowed distance from the strike schedule [m].
+        speed_tolerance: Allowed relative speed error [-].
+        angle_tolerance: Allowed cue axis error [rad].
+
+    Derived: ``contact_point``, ``entry_point``, ``exit_point`` [m]; ``window`` (strike
+    duration) and ``contact_delay`` [s]; ``q_contact``, an IK solution at contact near q_start
+    [rad], found when the problem is built.
+    """
+
+    robot: Robot
+    ball: ArrayLike
+    direction: ArrayLike
+    speed: float
+    run_up: float = 0.10
+    follow_through: float = 0.05
+    ball_radius: float = POOL_BALL_RADIUS
+    q_start: ArrayLike | None = None
+    limits: JointLimits | None = None
+    position_tolerance: float = STRIKE_POSITION_TOLERANCE
+    speed_tolerance: float = STRIKE_SPEED_TOLERANCE
+    angle_tolerance: float = STRIKE_ANGLE_TOLERANCE
+    q_contact: np.ndarray = field(init=False, repr=False, default=None)  # type: ignore[assignment]
+
+    def __post_init__(self) -> None:
+        robot = check_robot(self.robot)
+        limits = resolve_limits(robot, self.limits)
+        set_ = object.__setattr__
+        set_(self, "limits", limits)
+        ball = as_vector(self.ball, "ball", 3)
+        direction = unit_vector(self.direction, "direction")
+        speed = positive(self.speed, "speed", "m/s")
+        run_up = non_negative(self.run_up, "run_up", "m")
+        follow = non_negative(self.follow_through, "follow_through", "m")
+        if run_up + follow <= 0.0:
+            raise InvalidInputError(
+                "run_up + follow_through must be > 0 m (the strike needs a window)",
+                name="run_up",
+            )
+        radius = non_negative(self.ball_radius, "ball_radius", "m")
+        q_start, _, _ = joint_state(
+            limits, robot.home if self.q_start is None else self.q_start, None, None, "start"
+        )
+        for name, value in (
+            ("ball", ball),
+            ("direction", direction),
+            ("speed", speed),
+            ("run_up", run_up),
+            ("follow_through", follow),
+            ("ball_radius", radius),
+            ("q_start", q_start),
+        ):
+            set_(self, name, value)
+        # Every point of the line must be reachable with the cue on it (UnreachableError if not).
+        q_contact = solve_ik(robot, self.contact_point, axis=direction, q_near=q_start).q
+        for end in (self.entry_point, self.exit_point):
+            solve_ik(robot, end, axis=direction, q_near=q_contact)
+        set_(self, "q_contact", q_contact)
+
+    @property
+    def contact_point(self) -> np.ndarray:
+        """Where the cue tip meets the ball surface [m], shape (3,)."""
+        return np.asarray(self.ball) - float(self.ball_radius) * np.asarray(self.direction)
+
+    @property
+    def entry_point(self) -> np.ndarray:
+        """Where the strike window starts [m], shape (3,)."""
+        return self.contact_point - float(self.run_up) * np.asarray(self.direction)
+
+    @property
+    def exit_point(self) -> np.ndarray:
+        """Where the strike window ends [m], shape (3,)."""
+        return self.contact_point + float(self.follow_through) * np.asarray(self.direction)
+
+    @property
+    def window(self) -> float:
+        """Length of the strike window [s]."""
+        return (float(self.run_up) + float(self.follow_through)) / float(self.speed)
+
+    @property
+    def contact_delay(self) -> float:
+        """Time from the window's start to contact [s]."""
+        return float(self.run_up) / float(self.speed)
+
+    def constraints(self) -> tuple[Constraint, ...]:
+        """Rest at q_start, the strike line during phase ``strike``, rest at the end."""
+        n = self.limits.n
+        return (
+            BoundaryState("start", np.asarray(self.q_start), np.zeros(n)),
+            StrikeLine(
+                phase="strike",
+                point=self.contact_point,
+                direction=np.asarray(self.direction),
+                speed=float(self.speed),
+                contact_delay=self.contact_delay,
+                window=self.window,
+                align_axis=True,
+                position_tolerance=self.position_tolerance,
+                speed_tolerance=self.speed_tolerance,
+                angle_tolerance=self.angle_tolerance,
+            ),
+            BoundaryState("end", None, np.zeros(n)),
+        )

@@ -1,0 +1,54 @@
+"""Ready-made problems: the seed documents' set-ups and a few reusable test cases."""
+
+from __future__ import annotations
+
+import numpy as np
+
+import robots
+from problems.paddle_strike import PaddleStrike
+from problems.pick_and_place import PickAndPlace
+from problems.pool_strike import PoolStrike
+
+__all__ = ["sawyer_pool_shot", "seed_paddle_strike", "youbot_two_blocks"]
+
+#: The four workspace corners the ECE486 seed tabulates (ball centres) [m].
+SEED_PADDLE_BALLS = ((1.1, 0.8, 0.7), (1.1, -0.8, 0.7), (1.1, -0.8, -0.1), (1.1, 0.8, -0.1))
+
+
+def seed_paddle_strike(ball: tuple[float, float, float] = SEED_PADDLE_BALLS[0]) -> PaddleStrike:
+    """The ECE486 paddle4 task: from home, reach the ball at rest in 2 s (C = 0)."""
+    return PaddleStrike(robots.load("paddle4"), ball=ball)
+
+
+def youbot_two_blocks() -> PickAndPlace:
+    """Two 3 cm blocks, one on each side in front of the youBot, stacked on a pile.
+
+    Positions are in arm_link_0 coordinates: the blocks lie 3 cm below the arm's base plane,
+    where a top-down grip is within reach (our set-up in the spirit of seed Coursework 3).
+    """
+    return PickAndPlace(
+        robots.load("youbot"),
+        picks=[(0.22, 0.10, -0.03), (0.22, -0.10, -0.03)],
+        pile=(0.12, 0.14, -0.03),
+    )
+
+
+def sawyer_pool_shot(
+    speed: float = 1.0,
+    ball: tuple[float, float, float] = (0.75, 0.15, -0.05),
+    heading_deg: float = 0.0,
+) -> PoolStrike:
+    """A horizontal cue shot on Sawyer, ball ahead of the robot on a table below the base.
+
+    Args:
+        speed: Cue speed [m/s].
+        ball: Ball centre in the base frame [m].
+        heading_deg: Shot direction from +x about +z [deg].
+    """
+    heading = np.radians(heading_deg)
+    return PoolStrike(
+        robots.load("sawyer"),
+        ball=ball,
+        direction=(np.cos(heading), np.sin(heading), 0.0),
+        speed=speed,
+    )

@@ -1,0 +1,143 @@
+"""Tests of planners.cartesian: straight lines with SLERP, the seed's LinearTrajectory."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from conftest import get_robot
+
+import problems
+from optraj.errors import (
+    InfeasibleError,
+    InvalidInputError,
+    PathJumpError,
+    PathJumpWarning,
+    UnknownNameError,
+)
+from planners.cartesian import CartesianStraightLine, LinearTrajectory, path_scaling
+from planners.checker import check
+
+
+def _line_problem(seed: int, **kwargs):
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(seed)
+    start = robot.tool_pose(robot.home)
+    goal = start.copy()
+    goal[:3, 3] += rng.uniform(-0.12, 0.12, 3)
+    goal[:3, :3] = start[:3, :3] @ pin.exp3(rng.uniform(-0.3, 0.3, 3))
+    return problems.CartesianLine(robot, start, goal, q_start=robot.home, **kwargs)
+
+
+@pytest.mark.parametrize("profile", ["cubic", "quintic", "lspb"])
+def test_path_scalings_are_rest_to_rest_and_consistent(profile):
+    tau = np.linspace(0.0, 1.0, 20001)
+    s, ds, dds = path_scaling(profile, tau)
+    assert (s[0], s[-1], ds[0], ds[-1]) == pytest.approx((0.0, 1.0, 0.0, 0.0), abs=1e-12)
+    np.testing.assert_allclose(np.gradient(s, tau)[1:-1], ds[1:-1], atol=1e-3)
+    # Integrate the acceleration back to the velocity (trapezoid rule).
+    integrated = np.concatenate([[0.0], np.cumsum(0.5 * (dds[1:] + dds[:-1]) * np.diff(tau))])
+    np.testing.assert_allclose(integrated, ds, atol=1e-3)
+
+
+@pytest.mark.parametrize(("profile", "quantities"), [
+    ("cubic", ("position", "velocity", "acceleration")),
+    ("quintic", ("position", "velocity", "acceleration", "jerk")),
+    ("lspb", ("position", "velocity", "acceleration")),
+])  # fmt: skip
+def test_lines_follow_the_segment_within_limits(profile, quantities):
+    for seed in range(5):
+        problem = _line_problem(seed)
+        traj = CartesianStraightLine(profile).plan(problem)
+        report = check(traj, problem, quantities=quantities)
+        assert report.ok, report.summary()
+        # Tight: the interpolated joint path stays within 1e-7 m of the line.
+        assert report["tool path position"].value < 1e-7
+
+
+def test_speed_cap_sets_the_duration():
+    problem = _line_problem(1, speed=0.05)
+    traj = CartesianStraightLine("quintic").plan(problem)
+    assert traj.duration == pytest.approx(problem.length * 1.875 / 0.05, rel=1e-12)
+    speeds = np.linalg.norm(
+        get_robot("sawyer").jacobian(traj.sample(traj.times(200.0)).q)[:, :3]
+        @ traj.sample(traj.times(200.0)).qd[:, :, None],
+        axis=1,
+    )
+    assert speeds.max() == pytest.approx(0.05, rel=1e-4)
+
+
+def test_duration_and_speed_disagreeing_is_infeasible():
+    problem = _line_problem(2, speed=0.01, duration=0.5)
+    with pytest.raises(InfeasibleError, match="above the speed cap"):
+        CartesianStraightLine("cubic").plan(problem)
+
+
+def test_fixed_duration_too_short_for_the_joints_is_infeasible():
+    problem = _line_problem(3, duration=0.01)
+    with pytest.raises(InfeasibleError, match="breaks a joint limit"):
+        CartesianStraightLine("cubic").plan(problem)
+
+
+def _over_the_base_axis():
+    # youBot, gripper pointing up (candle orientation), a line passing over the J1 axis:
+    # the arm must swing over to the other side, which no continuous joint motion does.
+    robot = get_robot("youbot")
+    start = robot.tool_pose(robot.home)
+    goal = start.copy()
+    start[:3, 3] = [0.024, -0.04, 0.5]
+    goal[:3, 3] = [0.024, 0.04, 0.5]
+    return problems.CartesianLine(robot, start, goal)
+
+
+def test_line_over_a_singularity_reports_the_jump():
+    with pytest.raises(PathJumpError, match="arm_joint_3") as info:
+        CartesianStraightLine("cubic").plan(_over_the_base_axis())
+    assert info.value.jump > 3.0 > info.value.threshold
+    assert 0.0 < info.value.time < 1.0
+
+
+def test_jump_can_be_a_warning():
+    with pytest.warns(PathJumpWarning, match="jumps"):
+        CartesianStraightLine("cubic", on_jump="warn").plan(_over_the_base_axis())
+
+
+def test_bad_settings_are_rejected():
+    with pytest.raises(UnknownNameError, match="cubic, quintic, lspb"):
+        CartesianStraightLine("septic")
+    with pytest.raises(InvalidInputError, match="samples"):
+        CartesianStraightLine(samples=3)
+    with pytest.raises(InvalidInputError, match="CartesianLine"):
+        CartesianStraightLine().plan(problems.seed_paddle_strike())
+
+
+# ---------------------------------------------------------------- the seed's LinearTrajectory
+
+
+def test_linear_trajectory_has_the_seed_semantics():
+    line = LinearTrajectory([0.1, 0.2, 0.3], [0.4, 0.2, 0.3], speed=0.5, orientation=np.eye(3))
+    assert line.duration == pytest.approx(0.6)
+    position, velocity, acceleration = line.sample([0.0, 0.3, 0.6, 0.9])
+    np.testing.assert_allclose(position[:, 0], [0.1, 0.25, 0.4, 0.4])
+    np.testing.assert_allclose(velocity[:, 0], [0.5, 0.5, 0.5, 0.0])  # full speed at t = 0
+    np.testing.assert_array_equal(acceleration, 0.0)
+    with pytest.raises(InvalidInputError, match="t must be >= 0"):
+        line.sample(-0.1)
+    with pytest.raises(InvalidInputError, match="differ"):
+        LinearTrajectory([0, 0, 0], [0, 0, 0], 1.0, np.eye(3))
+
+
+def test_linear_trajectory_from_rest_needs_unbounded_acceleration():
+    robot = get_robot("sawyer")
+    start = robot.tool_pose(robot.home)
+    line = LinearTrajectory(start[:3, 3], start[:3, 3] + [0.1, 0.0, 0.0], 0.5, start[:3, :3])
+    traj = line.to_joints(robot, robot.home)
+    problem = problems.PointToPoint(robot, robot.home, traj.sample(traj.duration).q)
+    report = check(traj, problem, quantities=("position", "velocity", "acceleration"))
+    assert not report["start state"].ok  # it starts at full speed
+    assert report["acceleration"].value == np.inf
+    assert "jumps" in report["acceleration"].detail
+    # The line itself is followed: tool speed 0.5 m/s along +x.
+    sample = traj.sample(np.linspace(0.0, traj.duration, 50))
+    tool_velocity = np.einsum("mij,mj->mi", robot.jacobian(sample.q)[:, :3], sample.qd)
+    np.testing.assert_allclose(tool_velocity, np.tile([0.5, 0.0, 0.0], (50, 1)), atol=1e-6)

@@ -1,0 +1,37 @@
+"""Tests of problems.cartesian_line."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import get_robot
+
+from optraj.errors import InvalidInputError, UnreachableError
+from problems import BoundaryState, CartesianLine, ToolPath
+
+
+def test_start_configuration_found_by_ik_and_constraints():
+    robot = get_robot("sawyer")
+    start = robot.tool_pose(robot.home)
+    goal = start.copy()
+    goal[:3, 3] += [0.1, 0.0, 0.0]
+    problem = CartesianLine(robot, start, goal)
+    np.testing.assert_allclose(robot.tool_pose(problem.q_start), start, atol=1e-8)
+    assert problem.length == pytest.approx(0.1)
+    kinds = [type(c) for c in problem.constraints()]
+    assert kinds == [BoundaryState, ToolPath, BoundaryState]
+
+
+def test_unreachable_goal_and_inconsistent_start_are_errors():
+    robot = get_robot("sawyer")
+    start = robot.tool_pose(robot.home)
+    far = start.copy()
+    far[:3, 3] += [3.0, 0.0, 0.0]
+    with pytest.raises(UnreachableError):
+        CartesianLine(robot, start, far)
+    with pytest.raises(InvalidInputError, match="q_start puts the tool"):
+        CartesianLine(robot, start, start, q_start=np.zeros(7))
+    with pytest.raises(InvalidInputError, match="rotation matrix"):
+        CartesianLine(robot, np.diag([1.0, 1.0, -1.0, 1.0]), start)
+    with pytest.raises(InvalidInputError, match="speed must be > 0"):
+        CartesianLine(robot, start, start, q_start=robot.home, speed=0.0)

@@ -1,0 +1,43 @@
+"""Tests of problems.common: the shared checks."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import get_robot
+
+from optraj.errors import InvalidInputError, JointLimitError
+from problems.common import (
+    check_robot,
+    joint_state,
+    non_negative,
+    positive,
+    resolve_limits,
+    unit_vector,
+)
+
+
+def test_unit_vector_and_numbers():
+    np.testing.assert_allclose(unit_vector([0, 3, 4], "d"), [0, 0.6, 0.8])
+    assert positive(2, "x", "m") == 2.0 and non_negative(0, "x", "m") == 0.0
+    with pytest.raises(InvalidInputError, match="x must be > 0 m, got 0 m"):
+        positive(0, "x", "m")
+
+
+def test_joint_state_checks_speed_against_the_limit():
+    limits = get_robot("youbot").limits
+    _, qd, qdd = joint_state(limits, limits.lower, None, None, "start")
+    np.testing.assert_array_equal(qd, 0.0)
+    assert qdd is None
+    with pytest.raises(
+        JointLimitError, match=r"velocity at the goal: joint 'arm_joint_2' velocity -2"
+    ):
+        joint_state(limits, None, [0, -2.0, 0, 0, 0], None, "goal")
+
+
+def test_check_robot_and_limits():
+    robot = get_robot("paddle4")
+    assert check_robot(robot, "paddle4") is robot
+    assert resolve_limits(robot, None) is robot.limits
+    with pytest.raises(InvalidInputError, match="needs the 'sawyer' robot"):
+        check_robot(robot, "sawyer")

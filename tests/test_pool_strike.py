@@ -1,0 +1,53 @@
+"""Tests of problems.pool_strike."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import get_robot
+
+from optraj.errors import InvalidInputError, UnreachableError
+from problems import POOL_BALL_RADIUS, PoolStrike, StrikeLine
+
+
+def test_geometry_and_timing_of_the_strike():
+    robot = get_robot("sawyer")
+    problem = PoolStrike(robot, ball=(0.75, 0.15, -0.05), direction=(2.0, 0.0, 0.0), speed=1.2)
+    np.testing.assert_allclose(problem.direction, [1.0, 0.0, 0.0])
+    np.testing.assert_allclose(problem.contact_point, [0.75 - POOL_BALL_RADIUS, 0.15, -0.05])
+    np.testing.assert_allclose(
+        problem.entry_point - problem.contact_point, [-0.10, 0, 0], atol=1e-15
+    )
+    np.testing.assert_allclose(problem.exit_point - problem.contact_point, [0.05, 0, 0], atol=1e-15)
+    assert problem.window == pytest.approx(0.15 / 1.2)
+    assert problem.contact_delay == pytest.approx(0.10 / 1.2)
+    # The IK hint puts the cue tip on the contact point along the direction.
+    T = robot.tool_pose(problem.q_contact)
+    np.testing.assert_allclose(T[:3, 3], problem.contact_point, atol=1e-8)
+    np.testing.assert_allclose(T[:3, 2], problem.direction, atol=1e-8)
+    line = problem.constraints()[1]
+    assert isinstance(line, StrikeLine) and line.phase == "strike"
+    assert line.position_tolerance == 1e-5 and line.speed_tolerance == 1e-3
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "match"),
+    [
+        ({"speed": 0.0}, InvalidInputError, "speed must be > 0 m/s"),
+        ({"direction": (0.0, 0.0, 0.0)}, InvalidInputError, "non-zero direction"),
+        ({"ball": (0.7, np.inf, 0.0)}, InvalidInputError, "finite"),
+        ({"run_up": 0.0, "follow_through": 0.0}, InvalidInputError, "needs a window"),
+        ({"run_up": -0.1}, InvalidInputError, "run_up must be >= 0 m"),
+        ({"ball": (3.0, 0.0, 0.0)}, UnreachableError, "no configuration"),
+    ],
+)
+def test_bad_strikes_raise_typed_errors(kwargs, error, match):
+    fields = {
+        "robot": get_robot("sawyer"),
+        "ball": (0.75, 0.15, -0.05),
+        "direction": (1, 0, 0),
+        "speed": 1.0,
+    }
+    fields.update(kwargs)
+    with pytest.raises(error, match=match):
+        PoolStrike(**fields)

@@ -1,0 +1,31 @@
+"""Tests of planners.seed_strike: the seed's pull back + constant-velocity line."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import problems
+from optraj.errors import InvalidInputError
+from planners.checker import check
+from planners.seed_strike import SeedStrike
+
+
+def test_seed_strike_hits_the_line_but_needs_unbounded_acceleration():
+    problem = problems.sawyer_pool_shot(speed=1.0)
+    traj = SeedStrike().plan(problem)
+    assert [p.name for p in traj.phases] == ["pull back", "strike", "stop"]
+    report = check(traj, problem)
+    # On the line, at the speed, through the ball ...
+    for name in ("strike window", "strike position", "strike speed", "strike axis", "contact"):
+        assert report[name].ok, report.summary()
+    # ... but the cue jumps from rest to 1 m/s and back: an impulse the arm cannot give.
+    assert report["acceleration"].value == np.inf
+    assert not report.ok
+
+
+def test_seed_strike_rejects_other_problems():
+    with pytest.raises(InvalidInputError, match="PoolStrike"):
+        SeedStrike().plan(problems.seed_paddle_strike())
+    with pytest.raises(InvalidInputError, match="hold_time"):
+        SeedStrike(hold_time=0.0)

@@ -1,0 +1,157 @@
+"""Tests of planners.trajectory.Trajectory: sampling, construction, joining, export."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from optraj.errors import InvalidInputError, UnknownNameError
+from planners.trajectory import Phase, Trajectory
+
+
+def _random_states(seed: int, m: int = 6, n: int = 3):
+    rng = np.random.default_rng(seed)
+    t = np.concatenate([[0.0], np.cumsum(rng.uniform(0.1, 0.5, m - 1))])
+    return t, rng.normal(size=(m, n)), rng.normal(size=(m, n)), rng.normal(size=(m, n))
+
+
+def test_polynomial_evaluation_and_derivatives_on_a_known_cubic():
+    # q(t) = 1 + 2t - 3t^2 + 4t^3 on [0, 2]: derivatives by hand.
+    traj = Trajectory([0.0, 2.0], [[[1.0], [2.0], [-3.0], [4.0]]])
+    t = np.array([0.0, 0.5, 1.7, 2.0])
+    sample = traj.sample(t)
+    np.testing.assert_allclose(sample.q[:, 0], 1 + 2 * t - 3 * t**2 + 4 * t**3, rtol=1e-14)
+    np.testing.assert_allclose(sample.qd[:, 0], 2 - 6 * t + 12 * t**2, rtol=1e-14)
+    np.testing.assert_allclose(sample.qdd[:, 0], -6 + 24 * t, rtol=1e-14)
+    np.testing.assert_allclose(sample.jerk[:, 0], 24.0, rtol=1e-14)
+    assert traj.sample(0.5).q.shape == (1,)
+
+
+@pytest.mark.parametrize("with_acceleration", [False, True])
+def test_hermite_meets_every_state_and_derivatives_agree_with_finite_differences(with_acceleration):
+    t, q, qd, qdd = _random_states(1)
+    traj = Trajectory.from_hermite(t, q, qd, qdd if with_acceleration else None)
+    sample = traj.sample(t)
+    np.testing.assert_allclose(sample.q, q, atol=1e-12)
+    np.testing.assert_allclose(sample.qd, qd, atol=1e-11)
+    if with_acceleration:
+        np.testing.assert_allclose(sample.qdd, qdd, atol=1e-9)
+    inner = np.linspace(0.01, traj.duration - 0.01, 97)
+    h = 1e-6
+    plus, minus = traj.sample(inner + h), traj.sample(inner - h)
+    # Away from breakpoints the polynomial derivatives are exact; central differences agree.
+    mask = np.min(np.abs(inner[:, None] - t[None, :]), axis=1) > 2 * h
+    np.testing.assert_allclose(
+        ((plus.q - minus.q) / (2 * h))[mask], traj.sample(inner).qd[mask], atol=1e-6
+    )
+    np.testing.assert_allclose(
+        ((plus.qdd - minus.qdd) / (2 * h))[mask], traj.sample(inner).jerk[mask], atol=1e-4
+    )
+
+
+def test_breakpoints_are_right_continuous_and_jumps_are_kept():
+    # Two constant segments: 0 then 1; at t = 1 the second one applies.
+    traj = Trajectory([0.0, 1.0, 2.0], [[[0.0]], [[1.0]]])
+    np.testing.assert_array_equal(traj.sample([0.999, 1.0, 2.0]).q[:, 0], [0.0, 1.0, 1.0])
+
+
+@pytest.mark.parametrize(
+    ("breakpoints", "coefficients", "match"),
+    [
+        ([0.0, 1.0], np.zeros((2, 1, 1)), "one row per segment"),
+        ([0.5, 1.0], np.zeros((1, 1, 1)), "start at 0"),
+        ([0.0, 1.0, 1.0], np.zeros((2, 1, 1)), "strictly increase"),
+        ([0.0, 1.0], [[[np.nan]]], "finite"),
+        ([0.0, 1.0], np.zeros((1, 2)), "shape"),
+    ],
+)
+def test_bad_construction_is_rejected(breakpoints, coefficients, match):
+    with pytest.raises(InvalidInputError, match=match):
+        Trajectory(breakpoints, coefficients)
+
+
+def test_sampling_outside_the_duration_is_an_error():
+    traj = Trajectory.constant([0.0, 1.0], 2.0)
+    with pytest.raises(InvalidInputError, match=r"time 2.5 s is outside the trajectory \[0, 2\] s"):
+        traj.sample([0.0, 2.5])
+    with pytest.raises(InvalidInputError, match="finite"):
+        traj.sample(np.nan)
+    traj.sample(2.0 + 1e-12)  # round-off at the end is accepted
+
+
+def test_phases_are_checked_and_found():
+    traj = Trajectory.constant([0.0], 1.0, phases=[Phase("a", 0.0, 0.4), Phase("b", 0.4, 1.0)])
+    assert traj.phase("b").duration == pytest.approx(0.6)
+    with pytest.raises(UnknownNameError, match="known: a, b"):
+        traj.phase("c")
+    with pytest.raises(InvalidInputError, match="outside the trajectory"):
+        Trajectory.constant([0.0], 1.0, phases=[Phase("late", 0.5, 1.5)])
+    with pytest.raises(InvalidInputError, match="ends at"):
+        Phase("backwards", 1.0, 0.5)
+
+
+def test_then_shifts_time_and_phases_and_raises_degree():
+    first = Trajectory([0.0, 1.0], [[[0.0], [1.0]]], phases=[Phase("ramp", 0.0, 1.0)])
+    second = Trajectory.constant([1.0], 0.5, phases=[Phase("hold", 0.0, 0.5)])
+    joined = first.then(second)
+    assert joined.duration == pytest.approx(1.5)
+    assert [p.name for p in joined.phases] == ["ramp", "hold"]
+    assert joined.phase("hold").t_start == pytest.approx(1.0)
+    np.testing.assert_allclose(joined.sample([0.5, 1.2]).q[:, 0], [0.5, 1.0])
+    with pytest.raises(InvalidInputError, match="1 and 2 joints"):
+        first.then(Trajectory.constant([0.0, 0.0], 1.0))
+
+
+def test_json_round_trip_is_exact_and_drops_non_json_metadata(tmp_path):
+    t, q, qd, qdd = _random_states(2)
+    traj = Trajectory.from_hermite(
+        t, q, qd, qdd, joint_names=("a", "b", "c"), phases=[Phase("p", 0.0, t[2])],
+        metadata={"planner": "x", "solve_time": 0.25, "native": object(), "array": np.arange(3)},
+    )  # fmt: skip
+    path = tmp_path / "traj.json"
+    traj.to_json(path)
+    back = Trajectory.from_json(path)
+    grid = traj.times(500.0)
+    np.testing.assert_array_equal(back.sample(grid).q, traj.sample(grid).q)
+    assert back.joint_names == ("a", "b", "c")
+    assert back.phases == traj.phases
+    assert back.metadata == {"planner": "x", "solve_time": 0.25, "array": [0, 1, 2]}
+    assert Trajectory.from_json(traj.to_json()).duration == traj.duration
+
+
+@pytest.mark.parametrize(
+    ("source", "match"),
+    [
+        ('{"format": "other"}', "not an optraj trajectory"),
+        ("{nope", "malformed"),
+        ("/no/such.json", "no trajectory file"),
+    ],
+)
+def test_bad_json_is_a_typed_error(source, match):
+    with pytest.raises(InvalidInputError, match=match):
+        Trajectory.from_json(source)
+
+
+def test_csv_and_ros_exports(tmp_path):
+    traj = Trajectory([0.0, 1.5], [[[0.0, 1.0], [1.0, 0.0]]], joint_names=("a", "b"))
+    path = tmp_path / "traj.csv"
+    traj.to_csv(path, rate=10.0)
+    lines = path.read_text().splitlines()
+    assert lines[0] == "t,q_a,q_b,qd_a,qd_b,qdd_a,qdd_b,jerk_a,jerk_b"
+    assert len(lines) == 1 + 16  # 0 .. 1.5 s at 10 Hz
+    assert [float(v) for v in lines[-1].split(",")[:3]] == [1.5, 1.5, 1.0]
+    ros = traj.to_ros(rate=2.0)
+    assert ros["joint_names"] == ["a", "b"]
+    assert [p["time_from_start"] for p in ros["points"]][-1] == {"sec": 1, "nanosec": 500_000_000}
+    assert ros["points"][1]["positions"] == [0.5, 1.0]
+    assert ros["points"][1]["velocities"] == [1.0, 0.0]
+    json.dumps(ros)  # plain data
+
+
+def test_to_arrays_includes_both_sides_of_breakpoints():
+    traj = Trajectory([0.0, 1.0, 2.0], [[[0.0]], [[1.0]]])
+    arrays = traj.to_arrays(rate=4.0)
+    assert set(arrays) == {"t", "q", "qd", "qdd", "jerk"}
+    assert 1.0 in arrays["t"] and np.any((arrays["t"] < 1.0) & (arrays["t"] > 0.999))
