@@ -66,3 +66,15 @@ def test_console_script_module_runs():
     )
     assert done.returncode == 0, done.stderr
     assert "sawyer" in done.stdout
+
+
+def test_demo_reproduces_the_seed_table_and_the_checker_verdicts():
+    out = io.StringIO()
+    assert main(["demo"], out=out) == 0
+    text = out.getvalue()
+    # Rows printed in the ECE486 seed for the ball (1.1, 0.8, 0.7).
+    assert "     0.2   0.4626    0.0110   0.0280   -0.0110" in text
+    assert "     1.8   0.8874    0.3802   0.9705   -0.3802" in text
+    assert "pick and place (quintic)" in text and "pick and place (lspb)" in text
+    seed_line = next(line for line in text.splitlines() if "seed (pull back + line)" in line)
+    assert "FAIL" in seed_line and "acceleration unbounded (jump)" in seed_line
