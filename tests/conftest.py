@@ -1,8 +1,11 @@
-"""Shared fixtures: robots are loaded once per test session (loading Panda takes ~0.6 s)."""
+"""Shared fixtures: robots loaded once per session (Panda takes ~0.6 s), a thread race."""
 
 from __future__ import annotations
 
 import importlib.util
+import sys
+import threading
+from collections.abc import Callable
 
 import pytest
 
@@ -33,3 +36,26 @@ def get_robot(name: str) -> robots.Robot:
 @pytest.fixture(params=ALL_ROBOTS)
 def any_robot(request: pytest.FixtureRequest) -> robots.Robot:
     return get_robot(request.param)
+
+
+def race(worker: Callable[[int], None], threads: int) -> list[BaseException]:
+    """Run ``worker(k)`` in ``threads`` threads switching as often as possible; their errors."""
+    errors: list[BaseException] = []
+
+    def run(k: int) -> None:
+        try:
+            worker(k)
+        except BaseException as exc:  # collected for the caller to assert on
+            errors.append(exc)
+
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(1e-6)
+    try:
+        pool = [threading.Thread(target=run, args=(k,)) for k in range(threads)]
+        for thread in pool:
+            thread.start()
+        for thread in pool:
+            thread.join()
+    finally:
+        sys.setswitchinterval(interval)
+    return errors

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -19,23 +20,12 @@ from planners.lspb import (
     lspb_shortest_blend,
     lspb_trajectory,
 )
-from robots import JointLimits
 
 QUANTITIES = ("position", "velocity", "acceleration")
 
 
 def _limits(robot, velocity, acceleration):
-    base = robot.limits
-    return JointLimits(
-        names=base.names,
-        kinds=base.kinds,
-        lower=base.lower,
-        upper=base.upper,
-        velocity=velocity,
-        acceleration=acceleration,
-        jerk=base.jerk,
-        effort=base.effort,
-    )
+    return dataclasses.replace(robot.limits, velocity=velocity, acceleration=acceleration)
 
 
 def _sides(traj):

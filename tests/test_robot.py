@@ -7,7 +7,7 @@ import pickle
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import get_robot
+from conftest import get_robot, race
 from scipy.linalg import expm
 
 from optraj.errors import InvalidInputError, UnknownNameError
@@ -286,28 +286,13 @@ def test_overflowing_dynamics_raise_instead_of_returning_nan():
 
 
 def test_kinematics_are_thread_safe():
-    import sys
-    import threading
-
     robot = get_robot("sawyer")
     qs = robot.random_configurations(400, np.random.default_rng(21))
     expected = robot.tool_pose(qs)
-    wrong: list[int] = []
 
     def work(offset: int) -> None:
         for k in range(offset, offset + 400, 7):
             i = k % 400
-            if not np.array_equal(robot.tool_pose(qs[i]), expected[i]):
-                wrong.append(i)
+            np.testing.assert_array_equal(robot.tool_pose(qs[i]), expected[i])
 
-    interval = sys.getswitchinterval()
-    sys.setswitchinterval(1e-6)  # switch threads as often as possible
-    try:
-        threads = [threading.Thread(target=work, args=(t,)) for t in range(8)]
-        for thread in threads:
-            thread.start()
-        for thread in threads:
-            thread.join()
-    finally:
-        sys.setswitchinterval(interval)
-    assert wrong == []
+    assert race(work, 8) == []

@@ -10,6 +10,7 @@ import casadi as ca
 import numpy as np
 import pinocchio as pin
 import pytest
+from conftest import race
 
 import robots
 from optraj.errors import InvalidInputError, UnknownNameError, UnsupportedModelError
@@ -284,28 +285,11 @@ def test_accepts_a_robot_and_rejects_other_objects() -> None:
 
 
 def test_functions_can_be_requested_from_many_threads() -> None:
-    import sys
-    import threading
-
     sym = SymbolicModel(robots.load("sawyer"))
     frames = [f.name for f in sym.model.frames][1:]
-    errors: list[BaseException] = []
 
     def build(offset: int) -> None:
-        try:
-            for name in frames[offset:] + frames[:offset]:
-                sym.frame_pose(name)(np.zeros(sym.nq))
-        except BaseException as exc:  # collected and asserted below
-            errors.append(exc)
+        for name in frames[offset:] + frames[:offset]:
+            sym.frame_pose(name)(np.zeros(sym.nq))
 
-    interval = sys.getswitchinterval()
-    sys.setswitchinterval(1e-6)  # switch threads as often as possible
-    try:
-        threads = [threading.Thread(target=build, args=(k,)) for k in range(6)]
-        for thread in threads:
-            thread.start()
-        for thread in threads:
-            thread.join()
-    finally:
-        sys.setswitchinterval(interval)
-    assert errors == []
+    assert race(build, 6) == []

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from conftest import get_robot
@@ -10,7 +12,6 @@ import problems
 from optraj.errors import InfeasibleError, InvalidInputError
 from planners.checker import check
 from planners.time_scaling import Cubic, Quintic, cubic_coefficients, quintic_coefficients
-from robots import JointLimits
 
 # ECE486 seed, ball (1.1, 0.8, 0.7), T = 2 s, 5 Hz: the printed rows at t = 0.2, 0.4, 1.0, 1.8 s.
 SEED_ROWS = {
@@ -70,15 +71,11 @@ def test_boundary_conditions_met_for_random_data():
 
 
 def _limits(robot, rng):
-    return JointLimits(
-        names=robot.joint_names,
-        kinds=robot.limits.kinds,
-        lower=robot.limits.lower,
-        upper=robot.limits.upper,
+    return dataclasses.replace(
+        robot.limits,
         velocity=rng.uniform(0.2, 3.0, robot.dof),
         acceleration=rng.uniform(0.5, 10.0, robot.dof),
         jerk=rng.uniform(5.0, 200.0, robot.dof),
-        effort=robot.limits.effort,
     )
 
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from conftest import get_robot
@@ -10,23 +12,12 @@ import planners
 import problems
 from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError
 from planners.via_points import PROFILES, ViaPoints
-from robots import JointLimits
 
 QUANTITIES = ("position", "velocity", "acceleration")
 
 
 def _limits(robot, velocity, acceleration):
-    base = robot.limits
-    return JointLimits(
-        names=base.names,
-        kinds=base.kinds,
-        lower=base.lower,
-        upper=base.upper,
-        velocity=velocity,
-        acceleration=acceleration,
-        jerk=base.jerk,
-        effort=base.effort,
-    )
+    return dataclasses.replace(robot.limits, velocity=velocity, acceleration=acceleration)
 
 
 def _random_problem(rng, robot, **kwargs):
