@@ -1,4 +1,4 @@
-"""How to do it in time: the Trajectory type, time scalings, Cartesian paths, the checker.
+"""How to do it in time: Trajectory, classic and time-optimal profiles, strikes, the checker.
 
 Every planner has ``plan(problem) -> Trajectory``; :func:`check` judges any trajectory
 against a robot's limits and a problem's constraints, independently of the planner.
@@ -13,10 +13,14 @@ True
 from planners.base import JointProfile, Planner
 from planners.cartesian import CartesianStraightLine, LinearTrajectory, follow_tool_path
 from planners.checker import Finding, Report, check
+from planners.lower_bound import lower_bound
 from planners.lspb import LSPB
+from planners.ruckig_planner import OnlineRuckig, Ruckig
 from planners.seed_strike import SeedStrike
 from planners.sequencer import PickAndPlacePlanner
+from planners.strike import TimeOptimalStrike
 from planners.time_scaling import Cubic, Quintic
+from planners.toppra_planner import Toppra
 from planners.trajectory import Phase, Trajectory, TrajectorySample
 from planners.via_points import ViaPoints
 
@@ -27,15 +31,20 @@ __all__ = [
     "Finding",
     "JointProfile",
     "LinearTrajectory",
+    "OnlineRuckig",
     "Phase",
     "PickAndPlacePlanner",
     "Planner",
     "Quintic",
     "Report",
+    "Ruckig",
     "SeedStrike",
+    "TimeOptimalStrike",
+    "Toppra",
     "Trajectory",
     "TrajectorySample",
     "ViaPoints",
     "check",
     "follow_tool_path",
+    "lower_bound",
 ]

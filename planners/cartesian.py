@@ -35,14 +35,17 @@ from optraj.validation import as_array, as_positive, as_vector
 from planners.base import stamp
 from planners.checker import check
 from planners.trajectory import Phase, Trajectory
-from problems import CartesianLine
+from problems import CartesianLine, PaddleStrike
 from robots import JointLimits, Robot, solve_ik
+from robots.paddle_ik import BALL_OFFSET
 
 __all__ = [
     "CartesianStraightLine",
     "LinearTrajectory",
     "follow_tool_path",
+    "paddle_contact_velocity",
     "path_scaling",
+    "point_joint_velocity",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -82,12 +85,68 @@ def path_scaling(name: str, tau: ArrayLike) -> tuple[FloatArray, FloatArray, Flo
     raise UnknownNameError("path scaling", name, ["cubic", "quintic", "lspb"])
 
 
-def _frame_drift(robot: Robot, frame_id: int, q: FloatArray, qd: FloatArray) -> FloatArray:
-    """Tool acceleration [linear; angular] with zero joint acceleration (the J-dot qd term)."""
-    data = robot.data
-    pin.forwardKinematics(robot.model, data, q, qd, np.zeros_like(q))
-    return np.asarray(
-        pin.getFrameClassicalAcceleration(robot.model, data, frame_id, _WORLD_ALIGNED).vector
+def _joint_acceleration(
+    robot: Robot,
+    frame_id: int,
+    q: FloatArray,
+    qd: FloatArray,
+    jac: FloatArray,
+    twist: FloatArray,
+    acceleration: FloatArray,
+) -> FloatArray:
+    r"""Time derivative of the least-squares joint velocity qd = J^+ V along the path.
+
+    .. math:: \ddot q = J^+ (a - \dot J \dot q) + (I - J^+ J) \dot J^T (J J^T)^{-1} V
+
+    The second term (only for an arm with more joints than task rows) is the null-space part
+    of d(J^+)/dt V; without it the accelerations would not be the derivative of the velocities
+    and a spline through both would bend between samples.
+    """
+    model, data = robot.model, robot.data
+    pin.computeJointJacobiansTimeVariation(model, data, q, qd)
+    jac_dot = pin.getFrameJacobianTimeVariation(model, data, frame_id, _WORLD_ALIGNED)
+    pseudo_inverse = np.linalg.pinv(jac)
+    qdd = pseudo_inverse @ (acceleration - jac_dot @ qd)
+    if jac.shape[1] > jac.shape[0] and np.linalg.matrix_rank(jac) == jac.shape[0]:
+        null_space = np.eye(jac.shape[1]) - pseudo_inverse @ jac
+        qdd += null_space @ jac_dot.T @ np.linalg.solve(jac @ jac.T, twist)
+    return qdd
+
+
+def point_joint_velocity(
+    robot: Robot, q: ArrayLike, velocity: ArrayLike, offset: float = 0.0
+) -> FloatArray:
+    """Joint velocity that moves a tool point at ``velocity`` without turning the tool.
+
+    The point is the tool origin moved ``offset`` along the tool z axis; least squares on the
+    stacked point and angular rows of the Jacobian (exact when the arm can do it).
+
+    Args:
+        robot: The robot.
+        q: Configuration [rad or m], shape (n,).
+        velocity: Point velocity [m/s], shape (3,).
+        offset: Point offset along tool z [m].
+
+    Returns:
+        Joint velocity [rad/s or m/s], shape (n,).
+    """
+    config = as_vector(q, "q", robot.dof)
+    target = as_vector(velocity, "velocity", 3)
+    jac = robot.jacobian(config)
+    lever = offset * robot.tool_pose(config)[:3, 2]
+    # Velocity of the offset point: v + w x lever = v - [lever]x w.
+    point_rows = jac[:3] - pin.skew(lever) @ jac[3:]
+    task = np.vstack([point_rows, jac[3:]])
+    return np.linalg.lstsq(task, np.concatenate([target, np.zeros(3)]), rcond=None)[0]
+
+
+def paddle_contact_velocity(problem: PaddleStrike) -> FloatArray:
+    """Joint velocity at contact of a paddle strike: ball point at speed along the normal."""
+    return point_joint_velocity(
+        problem.robot,
+        problem.q_contact,
+        float(problem.speed) * problem.normal,
+        offset=BALL_OFFSET,
     )
 
 
@@ -159,8 +218,9 @@ def follow_tool_path(
                 warnings.warn(str(error), PathJumpWarning, stacklevel=2)
         jac = pin.computeFrameJacobian(robot.model, robot.data, q[i], frame_id, _WORLD_ALIGNED)
         qd[i] = np.linalg.lstsq(jac, twist_array[i], rcond=None)[0]
-        drift = _frame_drift(robot, frame_id, q[i], qd[i])
-        qdd[i] = np.linalg.lstsq(jac, accel_array[i] - drift, rcond=None)[0]
+        qdd[i] = _joint_acceleration(
+            robot, frame_id, q[i], qd[i], jac, twist_array[i], accel_array[i]
+        )
         previous = q[i]
     return Trajectory.from_hermite(t, q, qd, qdd, joint_names=robot.joint_names)
 

@@ -17,10 +17,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError
 from planners.base import JointProfile, rest_to_rest_inputs, stamp
+from planners.cartesian import paddle_contact_velocity
 from planners.trajectory import Phase, Trajectory
 from problems import PaddleStrike, PointToPoint
 from robots import JointLimits
-from robots.paddle_ik import BALL_OFFSET
 
 __all__ = [
     "Cubic",
@@ -355,7 +355,7 @@ class _Polynomial(JointProfile):
                 joint_names=limits.names,
                 phases=[Phase("approach", 0.0, approach.duration)],
             )
-        qd_contact = _paddle_joint_velocity(problem)
+        qd_contact = paddle_contact_velocity(problem)
         boundary = {"v0": zeros, "v1": qd_contact, "a0": zeros, "a1": zeros}
         approach = self._segment(q0, qc, limits, float(problem.contact_time), boundary)
         stop_boundary = {"v0": qd_contact, "v1": zeros, "a0": zeros, "a1": zeros}
@@ -385,27 +385,6 @@ class _Polynomial(JointProfile):
                 Phase("stop", t_contact, t_contact + stop.duration),
             ],
         )
-
-
-def _paddle_joint_velocity(problem: PaddleStrike) -> FloatArray:
-    """Joint velocity moving the paddle's ball point at speed along the normal.
-
-    Least squares on the 4-DOF Jacobian, asking also that the paddle does not turn.
-    """
-    robot = problem.robot
-    q = np.asarray(problem.q_contact)
-    jac = robot.jacobian(q)
-    z_axis = robot.tool_pose(q)[:3, 2]
-    # Velocity of the point offset along z: v + w x (offset z) = v - (offset z) x w.
-    offset = BALL_OFFSET * z_axis
-    skew = np.array(
-        [[0, -offset[2], offset[1]], [offset[2], 0, -offset[0]], [-offset[1], offset[0], 0]]
-    )
-    point_rows = jac[:3] - skew @ jac[3:]
-    task = np.vstack([point_rows, jac[3:]])
-    target = np.concatenate([float(problem.speed) * problem.normal, np.zeros(3)])
-    qd, *_ = np.linalg.lstsq(task, target, rcond=None)
-    return qd
 
 
 class Cubic(_Polynomial):

@@ -1,0 +1,212 @@
+"""Strikes built from the time-optimal profiles: approach, constant-speed line, stop.
+
+For a :class:`problems.PoolStrike`: the strike line (the cue tip at the commanded speed along
+the direction, through the contact point, cue axis on the line) is turned into joints by IK
+sample by sample; its first state (position, velocity, acceleration) is the entry state. The
+approach reaches that state from rest, with Ruckig (state to state, interpolating in joints)
+or with TOPPRA (a joint path ending along the entry velocity, entered at its path speed);
+after the line, Ruckig stops the arm as fast as its limits allow.
+
+For a :class:`problems.PaddleStrike`: the approach reaches the contact configuration with the
+joint velocity that moves the paddle's ball point at the commanded speed along its normal, at
+the commanded contact time (holding still first when the fastest approach is quicker); then
+the stop.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from optraj.errors import InfeasibleError, InvalidInputError
+from optraj.validation import as_count
+from planners.base import stamp
+from planners.cartesian import follow_tool_path, paddle_contact_velocity
+from planners.ruckig_planner import state_to_state, stop
+from planners.toppra_planner import Toppra
+from planners.trajectory import Phase, Trajectory
+from problems import PaddleStrike, PoolStrike
+from robots import JointLimits, Robot, solve_ik
+
+__all__ = ["TimeOptimalStrike"]
+
+FloatArray = NDArray[np.float64]
+
+
+class TimeOptimalStrike:
+    """Plan a pool or paddle strike with a Ruckig or TOPPRA approach and a Ruckig stop.
+
+    Args:
+        approach: ``"ruckig"`` or ``"toppra"``.
+        samples: IK samples along the strike line.
+    """
+
+    def __init__(self, approach: Literal["ruckig", "toppra"] = "ruckig", samples: int = 60) -> None:
+        if approach not in ("ruckig", "toppra"):
+            raise InvalidInputError(
+                f"approach must be 'ruckig' or 'toppra', got {approach!r}", name="approach"
+            )
+        self.approach = approach
+        self.samples = as_count(samples, "samples", 4)
+
+    @property
+    def name(self) -> str:
+        """Name recorded in trajectory metadata."""
+        return f"{self.approach} strike"
+
+    def plan(self, problem: PoolStrike | PaddleStrike) -> Trajectory:
+        """Approach, strike, stop; phases ``approach``, ``strike`` (pool) and ``stop``.
+
+        Raises:
+            InfeasibleError: The entry state cannot be reached, or the contact time is too
+                short for the fastest approach.
+            UnreachableError: A pose on the strike line cannot be reached.
+        """
+        started = time.perf_counter()
+        if isinstance(problem, PoolStrike):
+            traj, extra = self._pool(problem)
+        elif isinstance(problem, PaddleStrike):
+            traj, extra = self._paddle(problem)
+        else:
+            raise InvalidInputError(
+                f"TimeOptimalStrike plans a PoolStrike or a PaddleStrike, got "
+                f"{type(problem).__name__}",
+                name="problem",
+            )
+        return stamp(traj, self.name, started, **extra)
+
+    # ------------------------------------------------------------------------------ pool
+
+    def _line(self, problem: PoolStrike) -> Trajectory:
+        """The strike window in joints: cue tip on schedule, cue axis on the line."""
+        robot = problem.robot
+        direction = np.asarray(problem.direction)
+        speed = float(problem.speed)
+        rotation = robot.tool_pose(problem.q_contact)[:3, :3]  # cue axis along the direction
+        entry_pose = np.eye(4)
+        entry_pose[:3, :3] = rotation
+        entry_pose[:3, 3] = problem.entry_point
+        q_entry = solve_ik(robot, entry_pose, q_near=problem.q_contact).q
+        times = np.linspace(0.0, problem.window, self.samples + 1)
+        poses = np.repeat(entry_pose[None], times.size, axis=0)
+        poses[:, :3, 3] = problem.entry_point + speed * times[:, None] * direction
+        twists = np.tile(np.concatenate([speed * direction, np.zeros(3)]), (times.size, 1))
+        return follow_tool_path(robot, times, poses, twists, np.zeros_like(twists), q_entry)
+
+    def _pool(self, problem: PoolStrike) -> tuple[Trajectory, dict[str, object]]:
+        limits = problem.limits
+        line = self._line(problem)
+        entry = line.sample(0.0)
+        exit_state = line.sample(line.duration)
+        zeros = np.zeros(limits.n)
+        if self.approach == "ruckig":
+            approach = state_to_state(
+                problem.q_start, zeros, zeros, entry.q, entry.qd, entry.qdd, limits
+            )
+        else:
+            approach = self._toppra_approach(
+                problem.q_start, entry.q, entry.qd, problem.robot, limits
+            )
+        brake = stop(exit_state.q, exit_state.qd, exit_state.qdd, limits)
+        t1 = approach.duration
+        t2 = t1 + line.duration
+        joined = approach.then(line, brake)
+        traj = Trajectory(
+            joined.breakpoints,
+            joined.coefficients,
+            joint_names=limits.names,
+            phases=[
+                Phase("approach", 0.0, t1),
+                Phase("strike", t1, t2),
+                Phase("stop", t2, t2 + brake.duration),
+            ],
+        )
+        return traj, {"approach_line_gap": _approach_gap(problem, approach)}
+
+    def _toppra_approach(
+        self,
+        q_start: FloatArray,
+        q_entry: FloatArray,
+        qd_entry: FloatArray,
+        robot: Robot,
+        limits: JointLimits,
+    ) -> Trajectory:
+        """TOPPRA along a joint path that leaves q_start and arrives along qd_entry."""
+        chord = float(np.linalg.norm(q_entry - q_start))
+        speed = float(np.linalg.norm(qd_entry))
+        if chord < 1e-9 or speed < 1e-12:
+            raise InfeasibleError(
+                "the TOPPRA approach needs the entry configuration away from the start and a "
+                "moving entry state",
+                limit="path",
+            )
+        # Geometric path s in [0, 1]: cubic Hermite, unit-chord tangents at both ends.
+        tangent_end = qd_entry / speed * chord
+        path = Trajectory.from_hermite(
+            [0.0, 1.0], [q_start, q_entry], [q_entry - q_start, tangent_end]
+        )
+        return Toppra().time_parametrize(
+            path, limits, robot=robot, sd_start=0.0, sd_end=speed / chord
+        )
+
+    # ---------------------------------------------------------------------------- paddle
+
+    def _paddle(self, problem: PaddleStrike) -> tuple[Trajectory, dict[str, object]]:
+        limits = problem.limits
+        zeros = np.zeros(limits.n)
+        q_contact = np.asarray(problem.q_contact)
+        qd_contact = paddle_contact_velocity(problem)
+        if self.approach == "ruckig":
+            approach = state_to_state(
+                problem.q_start, zeros, zeros, q_contact, qd_contact, zeros, limits
+            )
+        elif float(problem.speed) > 0.0:
+            approach = self._toppra_approach(
+                problem.q_start, q_contact, qd_contact, problem.robot, limits
+            )
+        else:
+            approach = Toppra().time_parametrize(
+                np.array([problem.q_start, q_contact]), limits, robot=problem.robot
+            )
+        wait = float(problem.contact_time) - approach.duration
+        if wait < -1e-9:
+            raise InfeasibleError(
+                f"the fastest {self.approach} approach takes {approach.duration:.4g} s, longer "
+                f"than the contact time {float(problem.contact_time):.4g} s",
+                limit="contact time",
+                required=approach.duration,
+                allowed=float(problem.contact_time),
+            )
+        pieces = [approach]
+        phases = []
+        if wait > 1e-9:
+            pieces.insert(0, Trajectory.constant(problem.q_start, wait))
+            phases.append(Phase("wait", 0.0, wait))
+        t_contact = float(problem.contact_time)
+        phases.append(Phase("approach", max(wait, 0.0), t_contact))
+        if float(problem.speed) > 0.0:
+            brake = stop(q_contact, qd_contact, zeros, limits)
+            pieces.append(brake)
+            phases.append(Phase("stop", t_contact, t_contact + brake.duration))
+        joined = pieces[0].then(*pieces[1:]) if len(pieces) > 1 else pieces[0]
+        traj = Trajectory(
+            joined.breakpoints, joined.coefficients, joint_names=limits.names, phases=phases
+        )
+        return traj, {"wait": max(wait, 0.0)}
+
+
+def _approach_gap(problem: PoolStrike, approach: Trajectory) -> float:
+    """Largest distance of the cue tip from the strike line in the approach's last 20 % [m].
+
+    A joint-space approach meets the line only at the entry; this says how far off it comes.
+    """
+    robot = problem.robot
+    times = np.linspace(0.8 * approach.duration, approach.duration, 50)
+    points = robot.tool_position(approach.sample(times).q)
+    direction = np.asarray(problem.direction)
+    rel = points - np.asarray(problem.entry_point)
+    lateral = rel - (rel @ direction)[:, None] * direction
+    return float(np.max(np.linalg.norm(lateral, axis=1)))

@@ -1,0 +1,486 @@
+"""Tests of planners.ruckig_planner: exact conversion, random moves judged by the checker,
+synchronisation options, typed errors, the fastest stop and the online mode."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+import ruckig
+from conftest import get_robot
+
+import problems
+from optraj.errors import (
+    InfeasibleError,
+    InvalidInputError,
+    JointLimitError,
+    OptrajError,
+    SolverError,
+    UnknownNameError,
+)
+from planners.checker import check
+from planners.ruckig_planner import (
+    SYNCHRONIZATIONS,
+    OnlineRuckig,
+    Ruckig,
+    _ruckig_error,
+    native_to_trajectory,
+    state_to_state,
+    stop,
+)
+from planners.trajectory import Trajectory
+
+QUANTITIES = ("position", "velocity", "acceleration", "jerk")
+
+
+def _random_limits(robot, rng, low=0.3, high=2.0):
+    scale = rng.uniform(low, high, size=(3, robot.dof))
+    base = robot.limits
+    return dataclasses.replace(
+        base,
+        velocity=base.velocity * scale[0],
+        acceleration=base.acceleration * scale[1],
+        jerk=base.jerk * scale[2],
+    )
+
+
+def _inner(limits, rng, fraction=0.8):
+    """A configuration in the middle ``fraction`` of every joint's range."""
+    middle = 0.5 * (limits.lower + limits.upper)
+    half = 0.5 * (limits.upper - limits.lower)
+    return middle + fraction * half * rng.uniform(-1.0, 1.0, limits.n)
+
+
+def _max_deviation_from_native(traj, native, times):
+    ours = traj.sample(times)
+    theirs = np.array([np.concatenate(native.at_time(float(t))) for t in times])
+    return float(np.max(np.abs(np.hstack([ours.q, ours.qd, ours.qdd]) - theirs)))
+
+
+# ------------------------------------------------------------------- random moves, checked
+
+
+def test_random_rest_to_rest_moves_pass_the_checker():
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(20240611)
+    planner = Ruckig()
+    failures = []
+    for k in range(1000):
+        limits = _random_limits(robot, rng)
+        q0, q1 = limits.sample(rng, 2)
+        traj = planner.move(q0, q1, limits)
+        problem = problems.PointToPoint(robot, q0, q1, limits=limits)
+        report = check(traj, problem, quantities=QUANTITIES, rate=200.0)
+        if not report.ok:
+            failures.append((k, report.violations))
+        # Time synchronisation: the move takes the slowest joint's own minimum time.
+        durations = traj.metadata["independent_min_durations"]
+        assert traj.duration == pytest.approx(durations.max(), rel=1e-12, abs=1e-12)
+    assert not failures, failures[:3]
+
+
+def test_random_state_to_state_moves_pass_the_checker_or_raise_typed_errors():
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(7)
+    planner = Ruckig()
+    raised: list[OptrajError] = []
+    failures = []
+    for k in range(300):
+        limits = _random_limits(robot, rng)
+        q0, q1 = _inner(limits, rng), _inner(limits, rng)
+        half = 0.5 * rng.uniform(-1.0, 1.0, size=(4, robot.dof))
+        problem = problems.PointToPoint(
+            robot,
+            q0,
+            q1,
+            qd_start=half[0] * limits.velocity,
+            qd_goal=half[1] * limits.velocity,
+            qdd_start=half[2] * limits.acceleration,
+            qdd_goal=half[3] * limits.acceleration,
+            limits=limits,
+        )
+        try:
+            traj = planner.plan(problem)
+        except InfeasibleError as exc:
+            raised.append(exc)
+            continue
+        report = check(traj, problem, quantities=QUANTITIES, rate=200.0)
+        assert {"start state", "end state"} <= set(report.names)
+        if not report.ok:
+            failures.append((k, report.violations))
+    assert not failures, failures[:3]
+    # Few moves are out of reach: those that must overshoot a position limit.
+    assert len(raised) <= 10, [str(exc) for exc in raised]
+    assert all(exc.limit == "position" and exc.joint in robot.joint_names for exc in raised)
+
+
+# ------------------------------------------------------------------------ exact conversion
+
+
+@pytest.mark.parametrize("synchronization", sorted(SYNCHRONIZATIONS))
+def test_conversion_matches_ruckig_at_time(synchronization):
+    robot = get_robot("sawyer")
+    limits = robot.limits
+    rng = np.random.default_rng(5)
+    q0, q1 = _inner(limits, rng, 0.5), _inner(limits, rng, 0.5)
+    qd0 = 0.3 * limits.velocity * rng.uniform(-1, 1, 7)
+    qdd0 = 0.3 * limits.acceleration * rng.uniform(-1, 1, 7)
+    moving = synchronization != "none"  # "none" needs a target at rest
+    qd1 = 0.3 * limits.velocity * rng.uniform(-1, 1, 7) * moving
+    qdd1 = 0.3 * limits.acceleration * rng.uniform(-1, 1, 7) * moving
+    traj = state_to_state(q0, qd0, qdd0, q1, qd1, qdd1, limits, synchronization=synchronization)
+    native = traj.metadata["native"]
+    assert isinstance(native, ruckig.Trajectory)
+    assert traj.duration == native.duration
+    assert traj.degree == 3 and np.all(np.diff(traj.breakpoints) >= 1e-12)
+    times = np.concatenate([rng.uniform(0.0, traj.duration, 1990), traj.breakpoints[:10]])
+    assert _max_deviation_from_native(traj, native, times) < 1e-9
+    # Every joint's jerk is at its limit or zero (bang-zero-bang) for the fastest joint.
+    fastest = int(np.argmax(traj.metadata["independent_min_durations"]))
+    jerk = np.abs(traj.sample(times).jerk[:, fastest])
+    limit = limits.jerk[fastest]
+    assert np.all(np.isclose(jerk, limit, rtol=1e-9) | (jerk < 1e-9 * limit))
+    problem = problems.PointToPoint(robot, q0, q1, qd0, qd1, qdd0, qdd1, limits=limits)
+    assert check(traj, problem, quantities=QUANTITIES, rate=200.0).ok
+
+
+def test_unsynchronised_moves_need_a_target_at_rest():
+    limits = get_robot("sawyer").limits
+    with pytest.raises(InvalidInputError, match="time_if_necessary"):
+        state_to_state(
+            np.zeros(7),
+            None,
+            None,
+            np.ones(7),
+            np.full(7, 0.1),
+            None,
+            limits,
+            synchronization="none",
+        )
+
+
+def test_errors_raised_inside_ruckig_become_typed_errors():
+    limits = get_robot("sawyer").limits
+    inside = ruckig.RuckigError(
+        "\n[ruckig] target velocity 1.5 of DoF 2 exceeds its maximum velocity limit 1.0."
+    )
+    error = _ruckig_error(inside, limits)
+    assert isinstance(error, InfeasibleError) and error.joint == "right_j2"
+    assert "joint 'right_j2'" in str(error) and "DoF" not in str(error)
+    error = _ruckig_error(ruckig.RuckigError("[ruckig] error in step 1, dof: 0"), limits)
+    assert isinstance(error, SolverError) and error.solver == "ruckig"
+
+
+def test_conversion_of_a_brake_profile_matches_and_reports_the_breach():
+    # A start above the velocity limit: Ruckig brakes first (its brake pre-profile).
+    limits = get_robot("sawyer").limits
+    q0 = np.zeros(7)
+    qd0 = 0.5 * limits.velocity
+    qd0[0] = 1.3 * limits.velocity[0]
+    with pytest.raises(InfeasibleError, match="right_j0") as info:
+        state_to_state(q0, qd0, None, q0 + 0.5, None, None, limits)
+    assert info.value.limit == "velocity" and info.value.required == pytest.approx(qd0[0])
+    traj = state_to_state(q0, qd0, None, q0 + 0.5, None, None, limits, check_limits=False)
+    native = traj.metadata["native"]
+    assert native.profiles[0][0].brake.duration > 0.0
+    times = np.random.default_rng(1).uniform(0.0, traj.duration, 2000)
+    assert _max_deviation_from_native(traj, native, times) < 1e-9
+    assert traj.metadata["status"] == "limits exceeded"
+    assert any("right_j0" in text for text in traj.metadata["limit_violations"])
+    report = check(traj, get_robot("sawyer"), quantities=QUANTITIES, rate=200.0)
+    assert not report["velocity"].ok and report["velocity"].joint == "right_j0"
+
+
+def test_native_to_trajectory_on_a_direct_ruckig_result():
+    inp = ruckig.InputParameter(2)
+    inp.current_position, inp.current_velocity = [0.0, 1.0], [0.0, -0.2]
+    inp.current_acceleration = [0.0, 0.0]
+    inp.target_position, inp.target_velocity = [1.0, -0.5], [0.0, 0.3]
+    inp.target_acceleration = [0.0, 0.0]
+    inp.max_velocity, inp.max_acceleration, inp.max_jerk = [1.0, 1.0], [2.0, 2.0], [10.0, 5.0]
+    native = ruckig.Trajectory(2)
+    assert ruckig.Ruckig(2).calculate(inp, native) == ruckig.Result.Working
+    traj = native_to_trajectory(native, joint_names=["a", "b"])
+    assert traj.joint_names == ("a", "b")
+    times = np.linspace(0.0, native.duration, 2000)
+    assert _max_deviation_from_native(traj, native, times) < 1e-9
+    np.testing.assert_allclose(traj.sample(traj.duration).qd, [0.0, 0.3], atol=1e-12)
+    with pytest.raises(InvalidInputError, match="duration"):
+        native_to_trajectory(ruckig.Trajectory(2))
+
+
+# ------------------------------------------------------------------------ synchronisation
+
+
+def test_phase_synchronisation_moves_on_a_straight_line():
+    robot = get_robot("sawyer")
+    limits = robot.limits
+    rng = np.random.default_rng(3)
+    q0, q1 = limits.sample(rng, 2)
+    times = np.linspace(0.0, 1.0, 101)
+
+    def progress(traj):
+        q = traj.sample(times * traj.duration).q
+        return (q - q0) / (q1 - q0)  # per joint, in [0, 1]
+
+    phase = Ruckig("phase").move(q0, q1, limits)
+    timed = Ruckig("time").move(q0, q1, limits)
+    assert phase.metadata["synchronization"] == "phase"
+    assert phase.duration == pytest.approx(timed.duration, rel=1e-12)
+    s = progress(phase)
+    assert np.max(np.ptp(s, axis=1)) < 1e-9  # every joint at the same fraction of its way
+    assert np.max(np.ptp(progress(timed), axis=1)) > 1e-3  # time sync alone is not a line
+    assert check(phase, robot, quantities=QUANTITIES, rate=200.0).ok
+
+
+def test_without_synchronisation_each_joint_arrives_at_its_own_fastest():
+    limits = get_robot("sawyer").limits
+    rng = np.random.default_rng(4)
+    q0, q1 = limits.sample(rng, 2)
+    traj = Ruckig("none").move(q0, q1, limits)
+    own = traj.metadata["independent_min_durations"]
+    assert traj.duration == pytest.approx(own.max(), rel=1e-12)
+    for j, t in enumerate(own):
+        after = traj.sample(np.linspace(t, traj.duration, 5))
+        np.testing.assert_allclose(after.q[:, j], q1[j], atol=1e-9)
+        np.testing.assert_allclose(after.qd[:, j], 0.0, atol=1e-9)
+        before = traj.sample(0.99 * t)
+        assert abs(before.q[j] - q1[j]) > 1e-9
+
+
+def test_unknown_synchronisation_lists_the_options():
+    with pytest.raises(UnknownNameError, match="time_if_necessary"):
+        Ruckig("fastest")
+    with pytest.raises(UnknownNameError):
+        state_to_state(
+            np.zeros(7),
+            None,
+            None,
+            np.ones(7),
+            None,
+            None,
+            get_robot("sawyer").limits,
+            synchronization="Time",
+        )
+
+
+def test_minimum_duration_stretches_the_move():
+    robot = get_robot("sawyer")
+    limits = robot.limits
+    q0, q1 = robot.home, robot.home + 0.2
+    fastest = Ruckig().move(q0, q1, limits).duration
+    assert Ruckig().move(q0, q1, limits, 2.0 * fastest).duration == pytest.approx(2 * fastest)
+    assert Ruckig().move(q0, q1, limits, 0.5 * fastest).duration == pytest.approx(fastest)
+    assert Ruckig(minimum_duration=3.0).move(q0, q1, limits).duration == pytest.approx(3.0)
+    problem = problems.PointToPoint(robot, q0, q1, duration=4.0)
+    traj = Ruckig(minimum_duration=3.0).plan(problem)
+    assert traj.duration == pytest.approx(4.0)
+    assert traj.metadata["minimum_duration"] == 4.0
+    assert check(traj, problem, quantities=QUANTITIES, rate=200.0).ok
+    with pytest.raises(InvalidInputError, match="minimum_duration"):
+        Ruckig(minimum_duration=0.0)
+
+
+# ------------------------------------------------------------------------------- errors
+
+
+def test_target_velocity_above_the_limit_names_the_joint_and_values():
+    limits = get_robot("sawyer").limits
+    qd1 = np.zeros(7)
+    qd1[0] = 2.5
+    with pytest.raises(InfeasibleError) as info:
+        state_to_state(np.zeros(7), None, None, np.full(7, 0.3), qd1, None, limits)
+    error = info.value
+    assert (error.limit, error.joint, error.required, error.allowed) == (
+        "velocity",
+        "right_j0",
+        2.5,
+        pytest.approx(1.74),
+    )
+    assert "target velocity 2.5 rad/s of joint 'right_j0' exceeds its limit 1.74" in str(error)
+
+
+def test_target_acceleration_and_unreachable_target_states_raise():
+    limits = get_robot("sawyer").limits
+    qdd1 = np.zeros(7)
+    qdd1[3] = -9.0
+    with pytest.raises(InfeasibleError, match="right_j3") as info:
+        state_to_state(np.zeros(7), None, None, np.full(7, 0.3), None, qdd1, limits)
+    assert info.value.limit == "acceleration" and info.value.allowed == 8.0
+    # Arriving at 1.7 rad/s while decelerating at 7 rad/s^2 means having been faster than
+    # the limit 1.74 just before: 1.7 + 7^2 / (2 * 140) = 1.875.
+    qd1, qdd1 = np.zeros(7), np.zeros(7)
+    qd1[0], qdd1[0] = 1.7, -7.0
+    with pytest.raises(InfeasibleError, match="right_j0") as info:
+        state_to_state(np.zeros(7), None, None, np.full(7, 0.3), qd1, qdd1, limits)
+    assert info.value.limit == "velocity"
+    assert info.value.required == pytest.approx(1.7 + 49.0 / 280.0)
+
+
+def test_position_overshoot_raises_or_is_reported():
+    robot = get_robot("sawyer")
+    limits = robot.limits
+    q1 = robot.home.copy()
+    q1[0] = limits.upper[0] - 0.01
+    qd1 = np.zeros(7)
+    # Arriving 1 cm below the bound already moving back down: the joint must turn above it.
+    qd1[0] = -0.9 * limits.velocity[0]
+    with pytest.raises(InfeasibleError, match=r"right_j0.*upper position limit") as info:
+        state_to_state(robot.home, None, None, q1, qd1, None, limits)
+    assert info.value.limit == "position" and info.value.required > limits.upper[0]
+    # The problem form raises the same; asked not to, the planner reports the breach.
+    problem = problems.PointToPoint(robot, robot.home, q1, qd_goal=qd1)
+    with pytest.raises(InfeasibleError):
+        Ruckig().plan(problem)
+    traj = state_to_state(robot.home, None, None, q1, qd1, None, limits, check_limits=False)
+    assert traj.metadata["status"] == "limits exceeded"
+    assert not check(traj, problem, quantities=QUANTITIES, rate=200.0)["position"].ok
+
+
+def test_bad_inputs_raise_typed_errors():
+    robot = get_robot("sawyer")
+    limits = robot.limits
+    with pytest.raises(InvalidInputError, match="nothing to move"):
+        Ruckig().move(robot.home, robot.home, limits)
+    with pytest.raises(InvalidInputError, match="shape"):
+        Ruckig().move(np.zeros(6), np.zeros(7), limits)
+    with pytest.raises(InvalidInputError, match="finite"):
+        state_to_state(np.zeros(7), [np.nan] * 7, None, np.ones(7), None, None, limits)
+    with pytest.raises(JointLimitError, match="right_j1"):
+        state_to_state(np.zeros(7), None, None, np.full(7, 2.5), None, None, limits)
+    with pytest.raises(InvalidInputError, match="JointLimits"):
+        state_to_state(np.zeros(7), None, None, np.ones(7), None, None, robot)
+    with pytest.raises(InvalidInputError, match="PointToPoint"):
+        Ruckig().plan(problems.seed_paddle_strike())
+
+
+def test_plan_records_metadata_and_exports_without_the_native_object():
+    robot = get_robot("sawyer")
+    problem = problems.PointToPoint(
+        robot, robot.home, robot.home + 0.3, qd_goal=0.2 * robot.limits.velocity
+    )
+    traj = Ruckig().plan(problem)
+    meta = traj.metadata
+    assert meta["planner"] == "ruckig" and meta["status"] == "ok"
+    assert meta["synchronization"] == "time" and meta["limit_violations"] == []
+    assert 0.0 < meta["solve_time"] < 1.0
+    assert meta["independent_min_durations"].shape == (7,)
+    assert [p.name for p in traj.phases] == ["move"] and traj.joint_names == robot.joint_names
+    np.testing.assert_allclose(traj.sample(traj.duration).qd, 0.2 * robot.limits.velocity)
+    again = Trajectory.from_json(traj.to_json())
+    assert "native" not in again.metadata
+    np.testing.assert_array_equal(again.coefficients, traj.coefficients)
+
+
+# --------------------------------------------------------------------------------- stop
+
+
+def test_stop_brings_a_moving_state_to_rest_within_the_limits():
+    robot = get_robot("sawyer")
+    limits = robot.limits
+    rng = np.random.default_rng(9)
+    for _ in range(20):
+        qd0 = 0.8 * limits.velocity * rng.uniform(-1, 1, 7)
+        qdd0 = 0.3 * limits.acceleration * rng.uniform(-1, 1, 7)
+        traj = stop(robot.home, qd0, qdd0, limits)
+        end = traj.sample(traj.duration)
+        np.testing.assert_allclose(end.qd, 0.0, atol=1e-9)
+        np.testing.assert_allclose(end.qdd, 0.0, atol=1e-9)
+        np.testing.assert_allclose(traj.metadata["stop_position"], end.q)
+        assert traj.phases[0].name == "stop"
+        report = check(traj, robot, quantities=QUANTITIES, rate=200.0)
+        assert report.ok, report.violations
+        np.testing.assert_allclose(traj.sample(0.0).qd, qd0, atol=1e-12)
+
+
+def test_stop_time_matches_the_closed_form():
+    limits = get_robot("sawyer").limits
+    qd0 = np.zeros(7)
+    qd0[0] = 1.5  # >= a^2 / j = 0.35: a trapezoid in acceleration, T = v / a + a / j
+    qd0[1] = 0.1  # < 5^2 / 100 = 0.25: a triangle in acceleration, T = 2 sqrt(v / j)
+    traj = stop(np.zeros(7), qd0, None, limits, synchronization="none")
+    own = traj.metadata["independent_min_durations"]
+    assert own[0] == pytest.approx(1.5 / 7.0 + 7.0 / 140.0, rel=1e-12)
+    assert own[1] == pytest.approx(2.0 * math.sqrt(0.1 / 100.0), rel=1e-12)
+    assert traj.duration == pytest.approx(own[0], rel=1e-12)
+    with pytest.raises(InvalidInputError, match="at rest"):
+        stop(np.zeros(7), np.zeros(7), None, limits)
+
+
+def test_stop_that_must_exceed_a_limit_raises():
+    limits = get_robot("sawyer").limits
+    qd0, qdd0 = np.zeros(7), np.zeros(7)
+    qd0[2], qdd0[2] = 1.9, 7.0  # 1.9 + 49 / 320 > 1.957: the velocity limit breaks first
+    with pytest.raises(InfeasibleError, match="right_j2") as info:
+        stop(np.zeros(7), qd0, qdd0, limits)
+    assert info.value.limit == "velocity"
+    traj = stop(np.zeros(7), qd0, qdd0, limits, check_limits=False)
+    assert traj.metadata["limit_violations"] and traj.sample(traj.duration).qd == pytest.approx(0)
+
+
+# ------------------------------------------------------------------------------ online
+
+
+def test_online_ruckig_reaches_the_target_in_the_planned_number_of_ticks():
+    robot = get_robot("sawyer")
+    limits = robot.limits
+    dt = 1e-3
+    rng = np.random.default_rng(11)
+    q0, q1 = limits.sample(rng, 2)
+    offline = Ruckig().move(q0, q1, limits)
+    online = OnlineRuckig(limits, dt)
+    online.reset(q0)
+    states = []
+    while not online.finished:
+        states.append(online.update(q1))
+        assert len(states) < 10 * offline.duration / dt
+    q, qd, qdd = (np.array(x) for x in zip(*states, strict=True))
+    assert abs(len(states) - offline.duration / dt) <= 1.0
+    assert online.duration == pytest.approx(offline.duration, rel=1e-12)
+    np.testing.assert_allclose(q[-1], q1, atol=1e-9)
+    np.testing.assert_allclose(qd[-1], 0.0, atol=1e-9)
+    assert np.all(np.abs(qd) <= limits.velocity * (1 + 1e-9))
+    assert np.all(np.abs(qdd) <= limits.acceleration * (1 + 1e-9))
+    jerk = np.diff(np.vstack([np.zeros(7), qdd]), axis=0) / dt
+    assert np.all(np.abs(jerk) <= limits.jerk * (1 + 1e-6))
+    low, high = np.minimum(q0, q1), np.maximum(q0, q1)
+    assert np.all((q >= low - 1e-9) & (q <= high + 1e-9))
+    # Tick k returns the offline plan's state at (k + 1) dt.
+    times = np.minimum(dt * np.arange(1, len(q) + 1), offline.duration)
+    np.testing.assert_allclose(q, offline.sample(times).q, atol=1e-9)
+
+
+def test_online_ruckig_follows_a_changing_moving_target():
+    limits = get_robot("sawyer").limits
+    online = OnlineRuckig(limits, 0.01)
+    online.reset(np.zeros(7), 0.2 * limits.velocity, None)
+    goal, speed = np.full(7, 0.5), 0.1 * limits.velocity
+    ticks = 0
+    while not online.finished:
+        target = goal if ticks < 30 else -goal  # the target jumps after 0.3 s
+        q, qd, _ = online.update(target, speed)
+        ticks += 1
+        assert np.all(np.abs(qd) <= limits.velocity * (1 + 1e-9))
+        assert ticks < 2000
+    # The finishing tick ends past the target by the rest of the tick at the target speed.
+    assert np.all(np.abs(q + goal) <= speed * 0.01 + 1e-12)
+    np.testing.assert_allclose(q, -goal + speed * (online.time - online.duration), atol=1e-9)
+    np.testing.assert_allclose(qd, speed, atol=1e-9)
+
+
+def test_online_ruckig_rejects_bad_use():
+    limits = get_robot("sawyer").limits
+    online = OnlineRuckig(limits, 1e-3)
+    with pytest.raises(InvalidInputError, match="reset"):
+        online.update(np.zeros(7))
+    online.reset(np.zeros(7))
+    with pytest.raises(InfeasibleError, match="right_j0"):
+        online.update(np.zeros(7), [2.5, 0, 0, 0, 0, 0, 0])
+    with pytest.raises(InvalidInputError, match="shape"):
+        online.update(np.zeros(3))
+    with pytest.raises(InvalidInputError, match="dt"):
+        OnlineRuckig(limits, 0.0)
+    with pytest.raises(InfeasibleError, match="start velocity"):
+        online.reset(np.zeros(7), np.full(7, 5.0))

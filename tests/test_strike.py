@@ -1,0 +1,83 @@
+"""Tests of planners.strike: time-optimal approach, constant-speed strike, stop; by the checker."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import problems
+from optraj.errors import InfeasibleError, InvalidInputError
+from planners.checker import check
+from planners.strike import TimeOptimalStrike
+
+ALL = ("position", "velocity", "acceleration", "jerk", "torque")
+STRIKE = ("strike window", "strike position", "strike speed", "strike axis", "contact")
+
+
+def _shots(count: int, speed: float):
+    rng = np.random.default_rng(7)
+    for _ in range(count):
+        ball = (rng.uniform(0.65, 0.85), rng.uniform(-0.05, 0.3), rng.uniform(-0.1, 0.0))
+        yield problems.sawyer_pool_shot(speed, ball, heading_deg=rng.uniform(-20.0, 20.0))
+
+
+def test_ruckig_pool_strikes_pass_the_checker_or_say_why():
+    planned = 0
+    for problem in _shots(8, speed=0.5):
+        try:
+            traj = TimeOptimalStrike("ruckig").plan(problem)
+        except InfeasibleError as exc:
+            assert exc.joint is not None or exc.limit  # names what binds
+            continue
+        planned += 1
+        report = check(traj, problem, quantities=ALL)
+        assert report.ok, report.summary()
+        assert [p.name for p in traj.phases] == ["approach", "strike", "stop"]
+        # The joint-space approach meets the line only at the entry: reported, not hidden.
+        assert traj.metadata["approach_line_gap"] >= 0.0
+    assert planned >= 4
+
+
+def test_toppra_approach_enters_at_speed_with_an_acceleration_step():
+    problem = next(_shots(1, speed=0.5))
+    traj = TimeOptimalStrike("toppra").plan(problem)
+    report = check(traj, problem, quantities=("position", "velocity", "acceleration"))
+    assert report.ok, report.summary()
+    assert all(report[name].ok for name in STRIKE)
+    # TOPPRA matches the entry velocity, not the acceleration: the jerk is unbounded there.
+    assert check(traj, problem, quantities=("jerk",))["jerk"].value == np.inf
+
+
+@pytest.mark.parametrize("approach", ["ruckig", "toppra"])
+def test_paddle_strike_at_speed_meets_ball_on_time(approach):
+    problem = problems.PaddleStrike(
+        problems.seed_paddle_strike().robot, ball=(1.0, 0.3, 0.4), speed=0.5, contact_time=2.0
+    )
+    traj = TimeOptimalStrike(approach).plan(problem)
+    quantities = ALL if approach == "ruckig" else ("position", "velocity", "acceleration")
+    report = check(traj, problem, quantities=quantities)
+    assert report.ok, report.summary()
+    assert traj.phase("approach").t_end == pytest.approx(2.0)
+
+
+def test_seed_paddle_strike_with_toppra_waits_then_arrives_at_rest():
+    problem = problems.seed_paddle_strike()
+    traj = TimeOptimalStrike("toppra").plan(problem)
+    report = check(traj, problem, quantities=("position", "velocity", "acceleration"))
+    assert report.ok, report.summary()
+    assert traj.phase("wait").duration > 0.0
+
+
+def test_contact_time_too_short_is_infeasible():
+    problem = problems.PaddleStrike(
+        problems.seed_paddle_strike().robot, ball=(1.1, 0.8, 0.7), contact_time=0.1
+    )
+    with pytest.raises(InfeasibleError, match="longer than the contact time"):
+        TimeOptimalStrike("ruckig").plan(problem)
+
+
+def test_bad_arguments():
+    with pytest.raises(InvalidInputError, match="approach must be"):
+        TimeOptimalStrike("rrt")  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match="PoolStrike or a PaddleStrike"):
+        TimeOptimalStrike().plan(problems.youbot_two_blocks())
