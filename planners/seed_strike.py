@@ -17,7 +17,7 @@ from optraj.errors import InvalidInputError
 from planners.base import stamp
 from planners.cartesian import LinearTrajectory
 from planners.time_scaling import Cubic
-from planners.trajectory import Phase, Trajectory
+from planners.trajectory import Trajectory
 from problems import PoolStrike
 from robots import solve_ik
 
@@ -72,17 +72,8 @@ class SeedStrike:
         strike = line.to_joints(robot, q_entry, samples=self.samples)
         q_exit = strike.sample(strike.duration).q
         hold = Trajectory.constant(q_exit, self.hold_time)
-        t1 = pull_back.duration
-        t2 = t1 + strike.duration
-        joined = pull_back.then(strike, hold)
-        traj = Trajectory(
-            joined.breakpoints,
-            joined.coefficients,
+        traj = Trajectory.sequence(
+            [("pull back", [pull_back]), ("strike", [strike]), ("stop", [hold])],
             joint_names=robot.joint_names,
-            phases=[
-                Phase("pull back", 0.0, t1),
-                Phase("strike", t1, t2),
-                Phase("stop", t2, t2 + self.hold_time),
-            ],
         )
         return stamp(traj, self.name, started, q_entry=np.round(q_entry, 6).tolist())

@@ -9,7 +9,7 @@ import numpy as np
 from optraj.errors import InvalidInputError
 from planners.base import JointProfile, stamp
 from planners.time_scaling import Quintic
-from planners.trajectory import Phase, Trajectory
+from planners.trajectory import Trajectory
 from problems import PickAndPlace
 
 __all__ = ["PickAndPlacePlanner"]
@@ -53,18 +53,11 @@ class PickAndPlacePlanner:
             )
         started = time.perf_counter()
         limits = problem.limits
-        pieces: list[Trajectory] = []
-        phases: list[Phase] = []
-        clock = 0.0
+        phases: list[tuple[str, list[Trajectory]]] = []
         current = np.asarray(problem.q_start)
 
         def add(name: str, parts: list[Trajectory]) -> None:
-            nonlocal clock
-            begin = clock
-            for part in parts:
-                pieces.append(part)
-                clock += part.duration
-            phases.append(Phase(name, begin, clock))
+            phases.append((name, parts))
 
         def move(target: np.ndarray) -> list[Trajectory]:
             nonlocal current
@@ -86,11 +79,5 @@ class PickAndPlacePlanner:
             add(f"back_to_interim_{k}", move(interim))
             add(f"turn_to_target_{k}", move(problem.q_above_place[k]))
             add(f"release_{k}", move(problem.q_place[k]) + dwell())
-        joined = pieces[0].then(*pieces[1:])
-        traj = Trajectory(
-            joined.breakpoints,
-            joined.coefficients,
-            joint_names=limits.names,
-            phases=phases,
-        )
+        traj = Trajectory.sequence(phases, joint_names=limits.names)
         return stamp(traj, self.name, started)

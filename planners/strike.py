@@ -27,7 +27,7 @@ from planners.base import stamp
 from planners.cartesian import follow_tool_path, paddle_contact_velocity
 from planners.ruckig_planner import state_to_state, stop
 from planners.toppra_planner import Toppra
-from planners.trajectory import Phase, Trajectory
+from planners.trajectory import Trajectory
 from problems import PaddleStrike, PoolStrike
 from robots import JointLimits, Robot, solve_ik
 
@@ -111,18 +111,9 @@ class TimeOptimalStrike:
                 problem.q_start, entry.q, entry.qd, problem.robot, limits
             )
         brake = stop(exit_state.q, exit_state.qd, exit_state.qdd, limits)
-        t1 = approach.duration
-        t2 = t1 + line.duration
-        joined = approach.then(line, brake)
-        traj = Trajectory(
-            joined.breakpoints,
-            joined.coefficients,
+        traj = Trajectory.sequence(
+            [("approach", [approach]), ("strike", [line]), ("stop", [brake])],
             joint_names=limits.names,
-            phases=[
-                Phase("approach", 0.0, t1),
-                Phase("strike", t1, t2),
-                Phase("stop", t2, t2 + brake.duration),
-            ],
         )
         return traj, {"approach_line_gap": _approach_gap(problem, approach)}
 
@@ -180,21 +171,13 @@ class TimeOptimalStrike:
                 required=approach.duration,
                 allowed=float(problem.contact_time),
             )
-        pieces = [approach]
-        phases = []
+        phases: list[tuple[str, list[Trajectory]]] = []
         if wait > 1e-9:
-            pieces.insert(0, Trajectory.constant(problem.q_start, wait))
-            phases.append(Phase("wait", 0.0, wait))
-        t_contact = float(problem.contact_time)
-        phases.append(Phase("approach", max(wait, 0.0), t_contact))
+            phases.append(("wait", [Trajectory.constant(problem.q_start, wait)]))
+        phases.append(("approach", [approach]))
         if float(problem.speed) > 0.0:
-            brake = stop(q_contact, qd_contact, zeros, limits)
-            pieces.append(brake)
-            phases.append(Phase("stop", t_contact, t_contact + brake.duration))
-        joined = pieces[0].then(*pieces[1:]) if len(pieces) > 1 else pieces[0]
-        traj = Trajectory(
-            joined.breakpoints, joined.coefficients, joint_names=limits.names, phases=phases
-        )
+            phases.append(("stop", [stop(q_contact, qd_contact, zeros, limits)]))
+        traj = Trajectory.sequence(phases, joint_names=limits.names)
         return traj, {"wait": max(wait, 0.0)}
 
 

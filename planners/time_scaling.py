@@ -375,15 +375,8 @@ class _Polynomial(JointProfile):
                 f"{float(problem.speed):.3g} m/s",
                 limit="position",
             )
-        t_contact = approach.duration
-        return Trajectory(
-            np.r_[approach.breakpoints, t_contact + stop.breakpoints[1:]],
-            np.concatenate([approach.coefficients, stop.coefficients]),
-            joint_names=limits.names,
-            phases=[
-                Phase("approach", 0.0, t_contact),
-                Phase("stop", t_contact, t_contact + stop.duration),
-            ],
+        return Trajectory.sequence(
+            [("approach", [approach]), ("stop", [stop])], joint_names=limits.names
         )
 
 

@@ -346,6 +346,42 @@ class Trajectory:
             raise InvalidInputError(f"duration must be > 0 s, got {duration!r}", name="duration")
         return cls([0.0, duration], value[None, None, :], **kwargs)
 
+    @classmethod
+    def sequence(
+        cls,
+        phases: Sequence[tuple[str, Sequence[Trajectory]]],
+        *,
+        joint_names: Sequence[str] | None = None,
+        metadata: Mapping[str, Any] | None = None,
+    ) -> Trajectory:
+        """Pieces played one after another, one named phase spanning each group of them.
+
+        Args:
+            phases: ``(name, pieces)`` in order; a phase with no pieces lasts 0 s.
+            joint_names: Joint names of the result; the first piece's when None.
+            metadata: Metadata of the result (empty when None).
+
+        Raises:
+            InvalidInputError: No pieces at all, or pieces of different joint counts.
+        """
+        parts = [piece for _, pieces in phases for piece in pieces]
+        if not parts:
+            raise InvalidInputError("a sequence needs at least one piece", name="phases")
+        windows: list[Phase] = []
+        clock = 0.0
+        for name, pieces in phases:
+            start = clock
+            clock += sum(piece.duration for piece in pieces)
+            windows.append(Phase(name, start, clock))
+        joined = parts[0].then(*parts[1:])
+        return cls(
+            joined.breakpoints,
+            joined.coefficients,
+            joint_names=joint_names if joint_names is not None else parts[0].joint_names,
+            phases=windows,
+            metadata=metadata or {},
+        )
+
     def then(self, *others: Trajectory, metadata: Mapping[str, Any] | None = None) -> Trajectory:
         """This trajectory followed by others, each shifted to start where the previous ends.
 

@@ -155,3 +155,17 @@ def test_to_arrays_includes_both_sides_of_breakpoints():
     arrays = traj.to_arrays(rate=4.0)
     assert set(arrays) == {"t", "q", "qd", "qdd", "jerk"}
     assert 1.0 in arrays["t"] and np.any((arrays["t"] < 1.0) & (arrays["t"] > 0.999))
+
+
+def test_sequence_names_one_phase_per_group_of_pieces():
+    ramp = Trajectory([0.0, 1.0], [[[0.0], [1.0]]])
+    hold = Trajectory.constant([1.0], 0.5)
+    traj = Trajectory.sequence([("idle", []), ("ramp", [ramp]), ("rest", [hold, hold])])
+    assert [(p.name, p.t_start, p.t_end) for p in traj.phases] == [
+        ("idle", 0.0, 0.0),
+        ("ramp", 0.0, 1.0),
+        ("rest", 1.0, 2.0),
+    ]
+    np.testing.assert_allclose(traj.sample([0.5, 1.7]).q[:, 0], [0.5, 1.0])
+    with pytest.raises(InvalidInputError, match="at least one piece"):
+        Trajectory.sequence([("idle", [])])
