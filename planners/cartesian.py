@@ -13,7 +13,6 @@
 
 from __future__ import annotations
 
-import math
 import time
 import warnings
 from dataclasses import dataclass
@@ -311,31 +310,23 @@ class CartesianStraightLine:
                 phases=[Phase("line", 0.0, duration)],
             )
 
-        duration = self._duration(problem, unit, float(np.max(ds)))
-        traj = at(duration)
-        if problem.duration is None:
-            # Exact peaks (between samples too); rates scale as 1/T^k, so one step is exact.
-            growth = self._excess(traj, problem)
-            if growth > 1.0:
-                traj = at(duration * growth)
+        traj = at(self._duration(problem, unit, float(np.max(ds))))
         return stamp(traj, self.name, started, samples=self.samples)
 
-    def _excess(self, traj: Trajectory, problem: CartesianLine) -> float:
-        """Factor by which the duration must grow for the exact peaks to fit the limits."""
+    def _shortest(self, unit: Trajectory, problem: CartesianLine) -> float:
+        """Shortest duration within the joint limits, from the exact peaks of the 1 s path.
+
+        Traced in T seconds the path's joint rates scale as 1/T, accelerations as 1/T^2 and
+        jerks as 1/T^3, so each peak-to-limit ratio r of the unit-time trajectory needs
+        T >= r^(1/k); the checker finds the peaks exactly, between samples too.
+        """
         quantities = ["velocity", "acceleration"] + (["jerk"] if self.profile == "quintic" else [])
-        report = check(traj, _LimitsOnly(problem.robot, problem.limits), quantities=quantities)
+        report = check(unit, _LimitsOnly(problem.robot, problem.limits), quantities=quantities)
         order = {"velocity": 1.0, "acceleration": 2.0, "jerk": 3.0}
         return max(max(report[name].ratio, 0.0) ** (1.0 / order[name]) for name in quantities)
 
     def _duration(self, problem: CartesianLine, unit: Trajectory, peak_ds: float) -> float:
-        limits = problem.limits
-        dense = unit.sample(unit.times(rate=2000.0))
-        # At duration T: qd = qd_1 / T, qdd = qdd_1 / T^2, jerk = jerk_1 / T^3.
-        needs = [np.max(np.abs(dense.qd) / limits.velocity)]
-        needs.append(math.sqrt(np.max(np.abs(dense.qdd) / limits.acceleration)))
-        if self.profile == "quintic":
-            needs.append(np.cbrt(np.max(np.abs(dense.jerk) / limits.jerk)))
-        shortest = float(max(needs))
+        shortest = self._shortest(unit, problem)
         by_speed = problem.length * peak_ds / problem.speed if problem.speed is not None else None
         if problem.duration is not None:
             duration = float(problem.duration)
