@@ -25,6 +25,7 @@ test: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/time_optimal.py
+	$(BIN)/python benchmarks/strike.py
 
 lint: $(STAMP)
 	$(BIN)/ruff check --fix .

@@ -1,4 +1,4 @@
-"""How to do it in time: Trajectory, classic and time-optimal profiles, strikes, the checker.
+"""How to do it in time: Trajectory, classic, time-optimal and optimal-control plans, the checker.
 
 Every planner has ``plan(problem) -> Trajectory``; :func:`check` judges any trajectory
 against a robot's limits and a problem's constraints, independently of the planner.
@@ -13,8 +13,11 @@ True
 from planners.base import JointProfile, Planner
 from planners.cartesian import CartesianStraightLine, LinearTrajectory, follow_tool_path
 from planners.checker import Finding, Report, check
+from planners.classic_strike import ClassicStrike
+from planners.contact import ContactChoice, choose_contact
 from planners.lower_bound import lower_bound
 from planners.lspb import LSPB
+from planners.optimal_control import OptimalControl, OptimalControlProblem
 from planners.ruckig_planner import OnlineRuckig, Ruckig
 from planners.seed_strike import SeedStrike
 from planners.sequencer import PickAndPlacePlanner
@@ -27,11 +30,15 @@ from planners.via_points import ViaPoints
 __all__ = [
     "LSPB",
     "CartesianStraightLine",
+    "ClassicStrike",
+    "ContactChoice",
     "Cubic",
     "Finding",
     "JointProfile",
     "LinearTrajectory",
     "OnlineRuckig",
+    "OptimalControl",
+    "OptimalControlProblem",
     "Phase",
     "PickAndPlacePlanner",
     "Planner",
@@ -45,6 +52,7 @@ __all__ = [
     "TrajectorySample",
     "ViaPoints",
     "check",
+    "choose_contact",
     "follow_tool_path",
     "lower_bound",
 ]

@@ -31,7 +31,7 @@ from planners.trajectory import Trajectory
 from problems import PaddleStrike, PoolStrike
 from robots import JointLimits, Robot, solve_ik
 
-__all__ = ["TimeOptimalStrike"]
+__all__ = ["TimeOptimalStrike", "strike_line"]
 
 FloatArray = NDArray[np.float64]
 
@@ -81,20 +81,8 @@ class TimeOptimalStrike:
     # ------------------------------------------------------------------------------ pool
 
     def _line(self, problem: PoolStrike) -> Trajectory:
-        """The strike window in joints: cue tip on schedule, cue axis on the line."""
-        robot = problem.robot
-        direction = np.asarray(problem.direction)
-        speed = float(problem.speed)
-        rotation = robot.tool_pose(problem.q_contact)[:3, :3]  # cue axis along the direction
-        entry_pose = np.eye(4)
-        entry_pose[:3, :3] = rotation
-        entry_pose[:3, 3] = problem.entry_point
-        q_entry = solve_ik(robot, entry_pose, q_near=problem.q_contact).q
-        times = np.linspace(0.0, problem.window, self.samples + 1)
-        poses = np.repeat(entry_pose[None], times.size, axis=0)
-        poses[:, :3, 3] = problem.entry_point + speed * times[:, None] * direction
-        twists = np.tile(np.concatenate([speed * direction, np.zeros(3)]), (times.size, 1))
-        return follow_tool_path(robot, times, poses, twists, np.zeros_like(twists), q_entry)
+        """The strike window in joints, from the problem's own contact configuration."""
+        return strike_line(problem, self.samples)
 
     def _pool(self, problem: PoolStrike) -> tuple[Trajectory, dict[str, object]]:
         limits = problem.limits
@@ -179,6 +167,42 @@ class TimeOptimalStrike:
             phases.append(("stop", [stop(q_contact, qd_contact, zeros, limits)]))
         traj = Trajectory.sequence(phases, joint_names=limits.names)
         return traj, {"wait": max(wait, 0.0)}
+
+
+def strike_line(
+    problem: PoolStrike, samples: int = 60, q_contact: FloatArray | None = None
+) -> Trajectory:
+    """The strike window of a pool strike in joints: cue tip on schedule, cue axis on the line.
+
+    The tool keeps the orientation it has at ``q_contact`` (the problem's when None) and its
+    origin moves from the entry point at ``speed`` along the direction; joints follow by
+    :func:`planners.cartesian.follow_tool_path` from the IK solution at the entry.
+
+    Args:
+        problem: The strike.
+        samples: IK samples along the line.
+        q_contact: Configuration at contact [rad], shape (n,); the problem's when None.
+
+    Returns:
+        The window, ``problem.window`` long, starting at t = 0.
+
+    Raises:
+        UnreachableError: A pose on the line cannot be reached.
+    """
+    robot = problem.robot
+    contact = np.asarray(problem.q_contact if q_contact is None else q_contact, dtype=float)
+    direction = np.asarray(problem.direction)
+    speed = float(problem.speed)
+    rotation = robot.tool_pose(contact)[:3, :3]  # cue axis along the direction
+    entry_pose = np.eye(4)
+    entry_pose[:3, :3] = rotation
+    entry_pose[:3, 3] = problem.entry_point
+    q_entry = solve_ik(robot, entry_pose, q_near=contact).q
+    times = np.linspace(0.0, problem.window, samples + 1)
+    poses = np.repeat(entry_pose[None], times.size, axis=0)
+    poses[:, :3, 3] = problem.entry_point + speed * times[:, None] * direction
+    twists = np.tile(np.concatenate([speed * direction, np.zeros(3)]), (times.size, 1))
+    return follow_tool_path(robot, times, poses, twists, np.zeros_like(twists), q_entry)
 
 
 def _approach_gap(problem: PoolStrike, approach: Trajectory) -> float:

@@ -30,3 +30,43 @@ def test_time_optimal_quick_run_writes_its_table(tmp_path, monkeypatch):
         ratios = [float(c) for c in cells[2:]]
         assert ratios[-1] == 1.0
         assert min(ratios) > 0.9
+
+
+def test_strike_quick_run_writes_its_table(tmp_path, monkeypatch):
+    module = _load("strike")
+    monkeypatch.setattr(module, "RESULTS", tmp_path)
+    assert module.main(["--quick"]) == 0
+    text = (tmp_path / "strike.md").read_text()
+    table, extras = text.split("## OptimalControl solve times")
+    header = next(line for line in table.splitlines() if line.startswith("| planner |"))
+    columns = [c.strip() for c in header.strip("|").split("|")]
+    assert columns[:4] == ["planner", "success", "motion time [s]", "vs cubic"]
+    assert "peak jerk" in columns and "speed error [%]" in columns and "errors" in columns
+    rows = {
+        cells[0]: dict(zip(columns, cells, strict=True))
+        for line in table.splitlines()
+        if line.startswith("| ") and not line.startswith(("| planner", "|---"))
+        for cells in [[c.strip() for c in line.strip("|").split("|")]]
+    }
+    expected = [label for label, _ in module.planners_to_compare()]
+    assert list(rows) == expected
+    assert expected[:6] == [
+        "seed (pull back + line)",
+        "cubic strike",
+        "quintic strike",
+        "lspb strike",
+        "toppra strike",
+        "ruckig strike",
+    ]
+    for row in rows.values():
+        assert row["success"].split()[0].endswith("/4")
+    # The seed jumps to full speed at the entry: planned every time, never within the limits.
+    solved = int(rows["optimal control (min time)"]["success"].split("/")[0])
+    assert solved >= 3  # it chooses its own contact configuration
+    assert "| warm |" in extras and "| cold |" in extras
+    seed = rows["seed (pull back + line)"]
+    assert seed["success"].startswith("0/4") and "acceleration 4" in seed["checker failures"]
+    assert seed["errors"] == "-"
+    # Ruckig and the quintic keep every limit or raise: none of their trajectories fails.
+    assert rows["ruckig strike"]["checker failures"] == "-"
+    assert rows["quintic strike"]["checker failures"] == "-"

@@ -1,0 +1,316 @@
+"""Pool strikes on Sawyer: every strike planner on the same seeded random shots, by the checker.
+
+For each planner: success rate (planned, and the checker passes every joint limit but torque
+- position, velocity, acceleration, jerk - and every task finding: start and end at rest,
+the strike window, position, speed, axis and contact), median motion time, its ratio to the
+cubic strike's on the same shot, the peak joint velocity, acceleration and jerk as a fraction
+of their limits (worst joint, from the checker), the strike-line position and speed errors
+(from the checker) and the planning wall time. A planner raising an ``OptrajError`` fails the
+shot; the error classes are tallied.
+
+Writes ``benchmarks/results/strike.md`` (or ``--out``) and prints it.
+
+Usage: ``python benchmarks/strike.py [--shots 100] [--quick] [--out PATH]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import sys
+import time
+from collections import Counter
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import problems
+from optraj.errors import OptrajError, UnreachableError
+from planners.checker import Report, check
+from planners.classic_strike import ClassicStrike
+from planners.optimal_control import OptimalControl
+from planners.seed_strike import SeedStrike
+from planners.strike import TimeOptimalStrike
+
+RESULTS = Path(__file__).resolve().parent / "results"
+
+SPEED = 1.0  # cue speed [m/s]
+SEED = 7
+QUANTITIES = ("position", "velocity", "acceleration", "jerk")
+REFERENCE = "cubic strike"  # the row motion times are compared with
+
+
+def progress(done: int, total: int, label: str) -> None:
+    """A one-line progress bar on stderr."""
+    width = 30
+    filled = int(width * done / max(total, 1))
+    sys.stderr.write(f"\r{label:<28} [{'#' * filled}{'.' * (width - filled)}] {done}/{total}")
+    if done == total:
+        sys.stderr.write("\n")
+    sys.stderr.flush()
+
+
+def planners_to_compare() -> list[tuple[str, Any]]:
+    """The (row label, planner) pairs of the table, in row order."""
+    pairs: list[tuple[str, Any]] = [
+        ("seed (pull back + line)", SeedStrike()),
+        ("cubic strike", ClassicStrike("cubic")),
+        ("quintic strike", ClassicStrike("quintic")),
+        ("lspb strike", ClassicStrike("lspb")),
+        ("toppra strike", TimeOptimalStrike("toppra")),
+        ("ruckig strike", TimeOptimalStrike("ruckig")),
+    ]
+    for objective in ("time", "jerk"):
+        planner = OptimalControl(objective=objective)
+        pairs.append((planner.name, planner))
+    return pairs
+
+
+def shots(count: int, seed: int = SEED) -> tuple[list[problems.PoolStrike], int]:
+    """``count`` seeded random shots and how many draws were redrawn (ball out of reach)."""
+    rng = np.random.default_rng(seed)
+    found: list[problems.PoolStrike] = []
+    redrawn = 0
+    while len(found) < count:
+        ball = (rng.uniform(0.65, 0.85), rng.uniform(-0.05, 0.3), rng.uniform(-0.1, 0.0))
+        heading = rng.uniform(-20.0, 20.0)
+        try:
+            found.append(problems.sawyer_pool_shot(SPEED, ball, heading_deg=heading))
+        except UnreachableError:
+            redrawn += 1
+    return found, redrawn
+
+
+class Tally:
+    """What one planner did over the shots (medians over the planned shots).
+
+    A plain class, not a dataclass: the tests load this script without registering it in
+    ``sys.modules``, which dataclasses need.
+    """
+
+    def __init__(self) -> None:
+        self.successes = 0
+        self.errors: Counter[str] = Counter()
+        self.failed_findings: Counter[str] = Counter()
+        self.durations: dict[int, float] = {}  # shot index -> motion time [s]
+        self.velocity: list[float] = []  # peak / limit, worst joint [-]
+        self.acceleration: list[float] = []
+        self.jerk: list[float] = []
+        self.position_error: list[float] = []  # [m]
+        self.speed_error: list[float] = []  # [-]
+        self.wall: list[float] = []  # [s]
+
+    def record(self, index: int, duration: float, report: Report, wall: float) -> None:
+        """One planned shot."""
+        self.durations[index] = duration
+        self.wall.append(wall)
+        self.velocity.append(report["velocity"].ratio)
+        self.acceleration.append(report["acceleration"].ratio)
+        self.jerk.append(report["jerk"].ratio)
+        self.position_error.append(report["strike position"].value)
+        self.speed_error.append(report["strike speed"].value)
+        if report.ok:
+            self.successes += 1
+        self.failed_findings.update(finding.name for finding in report.violations)
+
+
+def run(problems_: list[problems.PoolStrike], pairs: list[tuple[str, Any]]) -> dict[str, Tally]:
+    """Plan and check every shot with every planner."""
+    tallies = {label: Tally() for label, _ in pairs}
+    total, done = len(problems_) * len(pairs), 0
+    for index, problem in enumerate(problems_):
+        for label, planner in pairs:
+            tally = tallies[label]
+            started = time.perf_counter()
+            try:
+                traj = planner.plan(problem)
+            except OptrajError as exc:
+                tally.errors[type(exc).__name__] += 1
+            else:
+                wall = time.perf_counter() - started
+                report = check(traj, problem, quantities=QUANTITIES)
+                tally.record(index, traj.duration, report, wall)
+            done += 1
+            progress(done, total, f"shot {index + 1}: {label}"[:28])
+    return tallies
+
+
+def _median(values: list[float]) -> float:
+    return statistics.median(values) if values else math.nan
+
+
+def _cell(value: float, digits: int = 3) -> str:
+    if math.isnan(value):
+        return "-"
+    if math.isinf(value):
+        return "inf"
+    return f"{value:.{digits}f}"
+
+
+def _counts(counter: Counter[str]) -> str:
+    return ", ".join(f"{name} {count}" for name, count in counter.most_common()) or "-"
+
+
+def table(tallies: dict[str, Tally], count: int) -> list[str]:
+    """The Markdown table, one row per planner."""
+    reference = tallies.get(REFERENCE)
+    rows = [
+        "| planner | success | motion time [s] | vs cubic | peak velocity | peak acceleration "
+        "| peak jerk | line position error [mm] | speed error [%] | planning [ms] | errors "
+        "| checker failures |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for label, tally in tallies.items():
+        ratios = [
+            duration / reference.durations[index]
+            for index, duration in tally.durations.items()
+            if reference is not None and index in reference.durations
+        ]
+        cells = [
+            f"{tally.successes}/{count} ({100.0 * tally.successes / max(count, 1):.0f} %)",
+            _cell(_median(list(tally.durations.values()))),
+            _cell(_median(ratios)),
+            _cell(_median(tally.velocity)),
+            _cell(_median(tally.acceleration)),
+            _cell(_median(tally.jerk)),
+            _cell(1e3 * _median(tally.position_error), 4),
+            _cell(1e2 * _median(tally.speed_error), 4),
+            _cell(1e3 * _median(tally.wall), 1),
+            _counts(tally.errors),
+            _counts(tally.failed_findings),
+        ]
+        rows.append(f"| {label} | {' | '.join(cells)} |")
+    return rows
+
+
+def _timed(
+    planner: OptimalControl, problem: problems.PoolStrike, **kwargs: Any
+) -> dict[str, float]:
+    """Wall time [ms], NLP time [ms] and iterations of one plan (NaN when it fails)."""
+    started = time.perf_counter()
+    try:
+        traj = planner.plan(problem, **kwargs)
+    except OptrajError:
+        return {"wall": math.nan, "nlp": math.nan, "iterations": math.nan}
+    wall = 1e3 * (time.perf_counter() - started)
+    return {
+        "wall": wall,
+        "nlp": 1e3 * traj.metadata["nlp_time"],
+        "iterations": float(traj.metadata["iterations"]),
+    }
+
+
+def _medians(runs: list[dict[str, float]]) -> tuple[str, str, str, str]:
+    def med(key: str) -> str:
+        values = [r[key] for r in runs if math.isfinite(r[key])]
+        return _cell(statistics.median(values), 1) if values else "-"
+
+    walls = sorted(r["wall"] for r in runs if math.isfinite(r["wall"]))
+    p95 = _cell(walls[min(len(walls) - 1, int(0.95 * len(walls)))], 1) if walls else "-"
+    return med("wall"), p95, med("nlp"), med("iterations")
+
+
+def extra_sections(shots: list[problems.PoolStrike], quick: bool = False) -> list[str]:
+    """OptimalControl's solve times: cold, warm (ball moved 2 cm), torque rows, grid size."""
+    count = 1 if quick else min(len(shots), 10)
+    chosen = shots[:count]
+    cold, warm, torque = [], [], []
+    plain, with_torque = OptimalControl("time"), OptimalControl("time", torque=True)
+    for index, shot in enumerate(chosen):
+        progress(index, count, "optimal control extras")
+        previous = plain.plan(shot) if math.isfinite(_timed(plain, shot)["wall"]) else None
+        moved = problems.sawyer_pool_shot(
+            float(shot.speed),
+            tuple(np.asarray(shot.ball) + np.array([0.0, 0.02, 0.0])),
+            heading_deg=float(np.degrees(np.arctan2(shot.direction[1], shot.direction[0]))),
+        )
+        cold.append(_timed(plain, moved))
+        if previous is not None:
+            warm.append(_timed(plain, moved, warm_start=previous))
+        if not quick:
+            torque.append(_timed(with_torque, shot))
+    progress(count, count, "optimal control extras")
+    grid = []
+    for intervals in (5, 10) if quick else (5, 10, 20, 40):
+        planner = OptimalControl("time", intervals=intervals, max_interval=2.0)
+        grid.append((intervals, _timed(planner, chosen[0])))
+    lines = [
+        "",
+        "## OptimalControl solve times",
+        "",
+        f"Minimum time, {count} shots; cold: the ball moved 2 cm from each shot, solved from "
+        "scratch (a solver already compiled for the grid); warm: the same, started from the "
+        "unmoved shot's solution (primal and dual); torque rows: at every node from the start. "
+        "Wall time includes the contact choice (about 0.2 s); NLP time is IPOPT alone.",
+        "",
+        "| run | median wall [ms] | p95 wall [ms] | median NLP [ms] | median iterations |",
+        "|---|---|---|---|---|",
+    ]
+    for label, runs in (("cold", cold), ("warm", warm), ("torque rows", torque)):
+        lines.append(f"| {label} | " + " | ".join(_medians(runs)) + " |")
+    lines += [
+        "",
+        "Solve time against the grid (intervals per phase, first shot):",
+        "",
+        "| intervals per phase | wall [ms] | NLP [ms] | iterations |",
+        "|---|---|---|---|",
+    ]
+    for intervals, run_ in grid:
+        lines.append(
+            f"| {intervals} | {_cell(run_['wall'], 1)} | {_cell(run_['nlp'], 1)} | "
+            f"{_cell(run_['iterations'], 0)} |"
+        )
+    return lines
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the benchmark and write the Markdown table."""
+    parser = argparse.ArgumentParser(description=(__doc__ or "").split("\n\n")[0])
+    parser.add_argument("--shots", type=int, default=100, help="random shots")
+    parser.add_argument("--quick", action="store_true", help="a few shots only (for CI)")
+    parser.add_argument("--out", type=Path, default=None, help="Markdown file to write")
+    args = parser.parse_args(argv)
+    if args.quick:
+        args.shots = 4
+    if args.shots < 1:
+        parser.error(f"--shots must be >= 1, got {args.shots}")
+    out = args.out if args.out is not None else RESULTS / "strike.md"
+    problems_, redrawn = shots(args.shots)
+    pairs = planners_to_compare()
+    started = time.perf_counter()
+    tallies = run(problems_, pairs)
+    elapsed = time.perf_counter() - started
+    lines = [
+        "# Pool strikes on Sawyer",
+        "",
+        f"Command: `python benchmarks/strike.py --shots {args.shots}`",
+        "",
+        f"{args.shots} seeded random shots (seed {SEED}) at {SPEED:g} m/s: ball centre "
+        "x in [0.65, 0.85] m, y in [-0.05, 0.3] m, z in [-0.1, 0] m, heading in [-20, 20] deg "
+        f"(`problems.sawyer_pool_shot`; {redrawn} draws out of reach were redrawn). "
+        f"{elapsed:.0f} s in all.",
+        "",
+        *table(tallies, args.shots),
+        "",
+        "Success: planned, and `planners.check` passes the position, velocity, acceleration",
+        "and jerk limits and every task finding (rest at both ends; strike window, position,",
+        "speed, axis, contact). Every other column is the median over the shots the planner",
+        "planned, whether or not they pass: motion time; its ratio to the cubic strike's on",
+        "the same shot; the worst joint's peak |velocity|, |acceleration| and |jerk| over its",
+        "limit (`inf`: the quantity below it jumps); the largest distance of the cue tip from",
+        "its strike schedule and the largest speed error along (or across) the line; the",
+        "planning wall time. Errors: the `OptrajError` classes raised; checker failures: how",
+        "often each finding failed.",
+    ]
+    lines.extend(extra_sections(problems_, quick=args.quick))
+    text = "\n".join(lines) + "\n"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(text)
+    print(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,1087 @@
+r"""Strikes and joint moves as constrained optimal control problems, solved with CasADi.
+
+:class:`OptimalControl` poses a problem as a multi-phase nonlinear program
+(:mod:`planners.transcription`: piecewise-constant jerk, exact triple-integrator steps,
+limits that hold between the nodes) and solves it with IPOPT (or another CasADi NLP solver
+chosen by name).
+
+Problems and their phases
+    * :class:`problems.PointToPoint`: one phase ``move`` (free duration unless the problem
+      fixes it), any start and goal state.
+    * :class:`problems.Waypoints`: one phase per segment, through every waypoint (within
+      ``via_tolerance`` when set), rest at both ends.
+    * :class:`problems.PoolStrike`: ``approach`` (free), ``strike`` (the window: the cue tip on
+      the constant-speed schedule through the contact point, cue axis on the line, roll
+      free), ``stop`` (free, rest anywhere).
+    * :class:`problems.PaddleStrike`: ``approach`` lasting the contact time and ending at the
+      contact configuration with the ball point moving at the strike speed along the paddle
+      normal, then ``stop``; with speed 0 (the seed's task) the approach ends at rest.
+
+Contact configuration
+    A strike's contact configuration is chosen before the NLP is built
+    (:func:`planners.contact.choose_contact`): the IK solution whose Jacobian lets the tool
+    reach the strike speed with the smallest joint speeds. A strike no configuration can make
+    is rejected there, within a second, with the binding joint and the best reachable speed.
+
+Objectives
+    ``"time"`` (sum of the free phase durations), ``"jerk"`` (integral of the squared
+    jerk, scaled by the jerk limits), ``"effort"`` (integral of the squared torques, scaled
+    by the effort limits), or a mapping of weights, e.g. ``{"time": 1, "jerk": 0.1}``. A
+    small ``regularization`` adds the jerk term and, for redundant arms (7 joints or more),
+    a posture term that keeps joints near the middle of their ranges (away from the limits;
+    singular configurations are avoided by the contact choice). Without a time term free
+    durations would grow without bound, so they are first minimised and then fixed at
+    ``stretch`` times the minimum.
+
+Torque limits
+    Symbolic RNEA rows at every node make a solve many times slower even when no torque
+    comes near its limit, so by default (``torque="auto"``) the NLP is solved without them,
+    the torques are evaluated densely, and rows are added only at the nodes around intervals
+    where a torque exceeds 90 % of its limit, then the NLP is solved again, warm started.
+    ``torque=True`` puts rows at every node, ``False`` none (the checker still reports them).
+
+Verification
+    Limits on velocity, acceleration, jerk and position hold between nodes by construction.
+    The strike line is verified between nodes (quarter points of each interval); where the
+    cue tip leaves its tolerance the strike phase gets twice the intervals and the NLP is
+    solved again. Judge the result with :func:`planners.check`, as for every planner.
+
+Build and solve apart
+    :meth:`OptimalControl.build` returns an :class:`OptimalControlProblem` (the CasADi NLP,
+    bounds, parameters and initial guess, open for inspection); :meth:`OptimalControl.solve`
+    solves it. Compiled NLPs are cached per planner instance and structure (robot, limits,
+    intervals, objective), so problems of the same shape reuse one solver; the cache is
+    dropped when the planner is pickled.
+
+Warm starts
+    ``plan(problem, warm_start=traj)``: from a previous solution of the same shape, primal
+    and dual values (``traj.metadata["warm_start"]``); from any other trajectory with the
+    same phase names (TOPPRA, Ruckig, classic profiles), its states at the nodes.
+
+Example::
+
+    problem = problems.sawyer_pool_shot(1.0)
+    traj = OptimalControl("time").plan(problem)
+    planners.check(traj, problem).ok
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import casadi as ca
+import numpy as np
+from numpy.typing import NDArray
+
+from optraj.errors import (
+    InfeasibleError,
+    InvalidInputError,
+    MissingDependencyError,
+    OptrajError,
+    SolverError,
+    UnknownNameError,
+)
+from optraj.validation import as_count, as_positive
+from planners.base import stamp
+from planners.contact import ContactChoice, choose_contact
+from planners.ruckig_planner import state_to_state, stop
+from planners.strike import strike_line
+from planners.time_scaling import quintic_coefficients
+from planners.trajectory import Phase, Trajectory
+from planners.transcription import (
+    CompiledNLP,
+    Structure,
+    compile_nlp,
+    parameter_vector,
+    structure_limits,
+)
+from problems import PaddleStrike, PointToPoint, PoolStrike, Waypoints
+from robots import JointLimits, Robot, SymbolicModel
+from robots.paddle_ik import BALL_OFFSET
+
+__all__ = [
+    "OBJECTIVES",
+    "SOLVERS",
+    "OptimalControl",
+    "OptimalControlProblem",
+    "PhaseGrid",
+    "WarmStart",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: Objective terms that can be weighted.
+OBJECTIVES = ("time", "jerk", "effort")
+#: CasADi NLP plugins that can be named (the installed CasADi decides which load).
+SOLVERS = ("ipopt", "fatrop", "sqpmethod", "blocksqp", "bonmin", "knitro", "snopt", "worhp")
+#: Torques above this fraction of their limit get rows at the surrounding nodes [-].
+TORQUE_WATCH = 0.9
+#: Rounds of solve, verify, refine.
+ROUNDS = 4
+#: Weight of the term that keeps neighbouring intervals of a free phase alike [-].
+GRID_WEIGHT = 1e-2
+#: Shortest interval of a free phase [s].
+MIN_INTERVAL = 1e-4
+#: Most intervals of a strike phase after refinement.
+MAX_STRIKE_INTERVALS = 120
+
+
+@dataclass(frozen=True)
+class PhaseGrid:
+    """The time grid of one phase.
+
+    Attributes:
+        name: Phase name (as in the trajectory's phases).
+        intervals: Equal intervals of the phase.
+        duration: Fixed duration [s], or None when the solver chooses it.
+        guess: Initial duration [s].
+        upper: Largest duration allowed [s] (``intervals * max_interval`` for a free phase).
+    """
+
+    name: str
+    intervals: int
+    duration: float | None
+    guess: float
+    upper: float
+
+
+@dataclass(frozen=True, eq=False)
+class WarmStart:
+    """A solution's primal and dual values, to warm start a solve of the same structure."""
+
+    structure: Structure
+    w: FloatArray
+    lam_x: FloatArray
+    lam_g: FloatArray
+
+
+@dataclass(eq=False)
+class OptimalControlProblem:
+    """A built optimal control problem, ready to solve and open for inspection.
+
+    Attributes:
+        problem: The problem it was built from.
+        compiled: The CasADi NLP (``compiled.w``, ``.f``, ``.g``, ``.p``, ``.groups``) and
+            its solver.
+        grids: The phases' time grids.
+        x0: Initial guess of the decision vector.
+        lbx: Lower bounds of the decision vector (fixed states have equal bounds).
+        ubx: Upper bounds.
+        p: Parameter values (see :data:`planners.transcription.PARAMETERS`).
+        lam_x0: Initial bound multipliers (a warm start), or None.
+        lam_g0: Initial constraint multipliers, or None.
+        contact: The chosen contact configuration of a strike, or None.
+        guess: The trajectory the initial guess was sampled from.
+    """
+
+    problem: Any
+    compiled: CompiledNLP
+    grids: tuple[PhaseGrid, ...]
+    x0: FloatArray
+    lbx: FloatArray
+    ubx: FloatArray
+    p: FloatArray
+    lam_x0: FloatArray | None
+    lam_g0: FloatArray | None
+    contact: ContactChoice | None
+    guess: Trajectory
+
+    @property
+    def variables(self) -> int:
+        """Number of decision variables."""
+        return int(self.x0.size)
+
+    @property
+    def constraints(self) -> int:
+        """Number of constraint rows."""
+        return int(self.compiled.lbg.size)
+
+    def violations(self, w: FloatArray) -> dict[str, float]:
+        """Largest bound excess of each constraint group (and ``"bounds"``) at ``w``."""
+        g = np.asarray(
+            ca.Function("g", [self.compiled.w, self.compiled.p], [self.compiled.g])(w, self.p)
+        ).reshape(-1)
+        excess = np.maximum(self.compiled.lbg - g, g - self.compiled.ubg)
+        result = {"bounds": float(np.max(np.maximum(self.lbx - w, w - self.ubx), initial=0.0))}
+        for name, first, end in self.compiled.groups:
+            result[name] = max(result.get(name, 0.0), float(np.max(excess[first:end])))
+        return result
+
+
+# ------------------------------------------------------------------------------ the spec
+
+
+@dataclass
+class _Fixed:
+    """A node state pinned by bounds: ``phase`` start or end; None entries stay free."""
+
+    phase: int
+    at: str
+    q: FloatArray | None
+    qd: FloatArray | None
+    qdd: FloatArray | None
+    tolerance: float = 0.0
+
+
+@dataclass
+class _Spec:
+    """A problem turned into phases, fixed states, parameters and a first guess."""
+
+    robot: Robot
+    limits: JointLimits
+    names: tuple[str, ...]
+    durations: tuple[float | None, ...]
+    guess: Trajectory
+    fixed: list[_Fixed]
+    params: dict[str, Any] = field(default_factory=dict)
+    strike_phase: int = -1
+    contact_phase: int = -1
+    contact: ContactChoice | None = None
+    intervals: tuple[int, ...] | None = None  # grid forced by a warm start
+
+
+def _objective(objective: str | Mapping[str, float]) -> dict[str, float]:
+    if isinstance(objective, str):
+        if objective not in OBJECTIVES:
+            raise UnknownNameError("objective", objective, OBJECTIVES)
+        return {objective: 1.0}
+    if not isinstance(objective, Mapping) or not objective:
+        raise InvalidInputError(
+            f"objective must be one of {OBJECTIVES} or a mapping of weights, got {objective!r}",
+            name="objective",
+        )
+    weights: dict[str, float] = {}
+    for key, value in objective.items():
+        if key not in OBJECTIVES:
+            raise UnknownNameError("objective term", str(key), OBJECTIVES)
+        weight = float(value)
+        if not np.isfinite(weight) or weight < 0.0:
+            raise InvalidInputError(
+                f"objective weight {key!r} must be finite and >= 0, got {value!r}",
+                name="objective",
+            )
+        if weight > 0.0:
+            weights[key] = weight
+    if not weights:
+        raise InvalidInputError("objective needs at least one weight > 0", name="objective")
+    return weights
+
+
+def _solver_name(solver: str) -> str:
+    if solver not in SOLVERS:
+        raise UnknownNameError("solver", str(solver), SOLVERS)
+    if not ca.has_nlpsol(solver):
+        raise MissingDependencyError(
+            package=f"casadi with the {solver} plugin",
+            extra="all",
+            feature=f"OptimalControl(solver={solver!r})",
+        )
+    return solver
+
+
+class OptimalControl:
+    """Plan by constrained optimal control: multi-phase, jerk-limited, torque-aware.
+
+    Args:
+        objective: ``"time"``, ``"jerk"``, ``"effort"``, or a mapping of weights.
+        solver: CasADi NLP plugin (:data:`SOLVERS`); IPOPT by default.
+        solver_options: Options passed to ``casadi.nlpsol`` (they override the defaults).
+        intervals: Intervals per phase: an int for every phase or a mapping from phase name;
+            chosen from ``step`` when None.
+        step: Target interval length of the approach and stop phases [s].
+        strike_step: Target interval length of a strike window [s].
+        max_interval: Longest interval a free phase may stretch to [s].
+        margin: Fraction of the velocity, acceleration and jerk limits kept free [-].
+        torque: ``"auto"``, True or False (see the module docstring).
+        torque_margin: Fraction of the torque limits kept free at torque rows [-].
+        regularization: Weight of the small jerk (and posture) terms [-].
+        stretch: Factor on the minimum durations when the objective has no time term [-].
+        max_iterations: Iteration cap of the solver.
+        tolerance: Solver tolerance (IPOPT ``tol``) [-].
+        contact_candidates: Contact configurations compared for a strike.
+    """
+
+    def __init__(
+        self,
+        objective: str | Mapping[str, float] = "time",
+        *,
+        solver: str = "ipopt",
+        solver_options: Mapping[str, Any] | None = None,
+        intervals: int | Mapping[str, int] | None = None,
+        step: float = 0.08,
+        strike_step: float = 0.03,
+        max_interval: float = 0.1,
+        margin: float = 1e-4,
+        torque: bool | str = "auto",
+        torque_margin: float = 0.01,
+        regularization: float = 1e-2,
+        stretch: float = 1.2,
+        max_iterations: int = 1000,
+        tolerance: float = 1e-6,
+        contact_candidates: int = 16,
+        free_grid: bool = True,
+    ) -> None:
+        self.weights = _objective(objective)
+        self.objective = objective if isinstance(objective, str) else dict(self.weights)
+        self.solver = _solver_name(solver)
+        self.solver_options = dict(solver_options or {})
+        if intervals is not None and not isinstance(intervals, Mapping):
+            intervals = as_count(intervals, "intervals", 1)
+        elif isinstance(intervals, Mapping):
+            intervals = {str(k): as_count(v, f"intervals[{k!r}]", 1) for k, v in intervals.items()}
+        self.intervals = intervals
+        self.step = as_positive(step, "step", "s")
+        self.strike_step = as_positive(strike_step, "strike_step", "s")
+        self.max_interval = as_positive(max_interval, "max_interval", "s")
+        for name, value in (("margin", margin), ("torque_margin", torque_margin)):
+            if not 0.0 <= float(value) < 0.5:
+                raise InvalidInputError(f"{name} must be in [0, 0.5), got {value!r}", name=name)
+        self.margin = float(margin)
+        self.torque_margin = float(torque_margin)
+        if torque not in ("auto", True, False):
+            raise InvalidInputError(
+                f"torque must be 'auto', True or False, got {torque!r}", name="torque"
+            )
+        self.torque = torque
+        self.regularization = float(regularization)
+        if not np.isfinite(self.regularization) or self.regularization < 0.0:
+            raise InvalidInputError(
+                f"regularization must be >= 0, got {regularization!r}", name="regularization"
+            )
+        self.stretch = float(stretch)
+        if not np.isfinite(self.stretch) or self.stretch < 1.0:
+            raise InvalidInputError(f"stretch must be >= 1, got {stretch!r}", name="stretch")
+        self.max_iterations = as_count(max_iterations, "max_iterations", 1)
+        self.tolerance = as_positive(tolerance, "tolerance")
+        self.contact_candidates = as_count(contact_candidates, "contact_candidates", 1)
+        self.free_grid = bool(free_grid)
+        self._compiled: dict[Structure, CompiledNLP] = {}
+        self._models: dict[str, SymbolicModel] = {}
+        self._lock = threading.Lock()
+
+    # -- pickling: compiled solvers are rebuilt on demand -----------------------------------
+
+    def __getstate__(self) -> dict[str, Any]:
+        """State without the compiled solvers and the lock."""
+        state = self.__dict__.copy()
+        state["_compiled"], state["_models"] = {}, {}
+        del state["_lock"]
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """Restore from :meth:`__getstate__`."""
+        self.__dict__.update(state)
+        self._lock = threading.Lock()
+
+    def __repr__(self) -> str:
+        """Objective and solver."""
+        return f"OptimalControl(objective={self.objective!r}, solver={self.solver!r})"
+
+    @property
+    def name(self) -> str:
+        """Name recorded in trajectory metadata."""
+        label = self.objective if isinstance(self.objective, str) else "weighted"
+        return f"optimal control (min {label})" if label != "weighted" else "optimal control"
+
+    # -- the public face ---------------------------------------------------------------------
+
+    def plan(self, problem: Any, warm_start: Trajectory | None = None) -> Trajectory:
+        """Solve the problem; the result's metadata holds the solve statistics.
+
+        Args:
+            problem: A PointToPoint, Waypoints, PoolStrike or PaddleStrike.
+            warm_start: A previous solution or any trajectory with the problem's phases.
+
+        Returns:
+            The trajectory, exactly the solver's piecewise cubic.
+
+        Raises:
+            InfeasibleError: A strike no contact configuration can make (with the binding
+                joint and the best reachable speed), a fixed duration shorter than the limits
+                allow, or torque limits that stay exceeded.
+            SolverError: The solver failed; its status and the most violated constraint
+                group are in the message.
+            InvalidInputError: An unsupported problem.
+        """
+        started = time.perf_counter()
+        spec = self._spec(problem)
+        weights = self._weights(spec)
+        if "time" not in self.weights and any(d is None for d in spec.durations):
+            timed = self._rounds(problem, spec, self._weights(spec, time_only=True), None)
+            spec.durations = tuple(
+                self.stretch * phase.duration if d is None else d
+                for d, phase in zip(spec.durations, timed.phases, strict=True)
+            )
+            spec.guess = timed
+            warm_start = None
+        traj = self._rounds(problem, spec, weights, warm_start)
+        return stamp(traj, self.name, started)
+
+    def build(self, problem: Any, warm_start: Trajectory | None = None) -> OptimalControlProblem:
+        """The NLP of a problem with its bounds and initial guess, not yet solved.
+
+        With an objective that has no time term, free durations stay free here (the
+        two-step solve of :meth:`plan` fixes them).
+        """
+        spec = self._spec(problem)
+        return self._build(problem, spec, self._weights(spec), (), None, warm_start)
+
+    def solve(self, built: OptimalControlProblem) -> Trajectory:
+        """Solve a built problem.
+
+        Raises:
+            SolverError: The solver failed (status, iterations, most violated group).
+        """
+        started = time.perf_counter()
+        traj = self._solve(built)
+        return stamp(traj, self.name, started)
+
+    # -- rounds of solve, verify, refine -----------------------------------------------------
+
+    def _weights(self, spec: _Spec, *, time_only: bool = False) -> dict[str, float]:
+        weights = {"time": 1.0} if time_only else dict(self.weights)
+        robot = spec.robot
+        if set(weights) == {"time"} and all(d is not None for d in spec.durations):
+            weights = {"jerk": 1.0}  # nothing to shorten: the smoothest motion in the time
+        if self.regularization > 0.0:
+            weights["jerk"] = weights.get("jerk", 0.0) + self.regularization
+            weights["grid"] = GRID_WEIGHT
+            if robot.dof >= 7:
+                weights["posture"] = self.regularization
+        return weights
+
+    def _rounds(
+        self,
+        problem: Any,
+        spec: _Spec,
+        weights: dict[str, float],
+        warm_start: Trajectory | None,
+    ) -> Trajectory:
+        torque_nodes: tuple[int, ...] = ()
+        strike_scale = 1
+        saved = None if warm_start is None else warm_start.metadata.get("warm_start")
+        if isinstance(saved, WarmStart) and len(saved.structure.intervals) == len(spec.names):
+            # Same grid and torque rows as the previous solution, so its duals apply too.
+            spec.intervals = saved.structure.intervals
+            torque_nodes = saved.structure.torque_nodes
+        torque_margin = self.torque_margin
+        rounds: list[str] = []
+        for _ in range(ROUNDS):
+            built = self._build(
+                problem, spec, weights, torque_nodes, strike_scale, warm_start, torque_margin
+            )
+            traj = self._solve(built)
+            rounds.append(f"{traj.metadata['iterations']} it")
+            layout = built.compiled.layout
+            if self.torque is True and not torque_nodes:
+                torque_nodes = tuple(range(layout.nodes))
+            more = self._torque_nodes(traj, spec, built) if self.torque is not False else None
+            strike_ok = self._strike_ok(traj, problem, spec)
+            if (more is None or not more) and strike_ok:
+                traj.metadata["rounds"] = len(rounds)
+                traj.metadata["torque_rows"] = len(torque_nodes)
+                return traj
+            if not strike_ok:  # a finer strike grid renumbers the nodes
+                strike_scale *= 2
+                torque_nodes = ()
+            elif more:
+                if set(more) <= set(torque_nodes):  # rows everywhere needed: keep more room
+                    torque_margin = min(0.2, 2.0 * torque_margin + 0.01)
+                torque_nodes = tuple(sorted(set(torque_nodes) | set(more)))
+            warm_start = traj
+        worst = self._torque_excess(traj, spec)
+        if worst is not None:
+            joint, _, value, limit = worst
+            raise InfeasibleError(
+                f"torque of {joint} stays at {value:.4g} N m (limit {limit:.4g}) after "
+                f"{ROUNDS} rounds of torque rows",
+                limit="effort",
+                joint=joint,
+                required=value,
+                allowed=limit,
+            )
+        raise SolverError(
+            self.solver,
+            "strike line not met between nodes",
+            detail=f"after {ROUNDS} refinements of the strike grid",
+        )
+
+    def _torque_excess(
+        self, traj: Trajectory, spec: _Spec
+    ) -> tuple[str, float, float, float] | None:
+        effort = spec.limits.effort
+        if not np.all(np.isfinite(effort)):
+            return None
+        times = _dense_times(traj, 4)
+        s = traj.sample(times)
+        tau = spec.robot.inverse_dynamics(s.q, s.qd, s.qdd)
+        ratio = np.abs(tau) / effort
+        i, j = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
+        if ratio[i, j] <= 1.0:
+            return None
+        return spec.limits.names[j], float(ratio[i, j]), float(tau[i, j]), float(effort[j])
+
+    def _torque_nodes(
+        self, traj: Trajectory, spec: _Spec, built: OptimalControlProblem
+    ) -> list[int]:
+        """Nodes to add torque rows at: around intervals where a torque nears its limit."""
+        effort = spec.limits.effort
+        if not np.all(np.isfinite(effort)):
+            return []
+        knots = traj.breakpoints
+        times = _dense_times(traj, 4)
+        s = traj.sample(times)
+        ratio = np.max(np.abs(spec.robot.inverse_dynamics(s.q, s.qd, s.qdd)) / effort, axis=1)
+        if ratio.max() <= 1.0 - 0.5 * self.torque_margin:
+            return []
+        hot = np.unique(
+            np.clip(
+                np.searchsorted(knots, times[ratio > TORQUE_WATCH], "right") - 1, 0, len(knots) - 2
+            )
+        )
+        nodes = set()
+        for k in hot.tolist():
+            nodes.update((k, k + 1))
+        existing = set(built.compiled.structure.torque_nodes)
+        return sorted(nodes - existing) or sorted(nodes)
+
+    def _strike_ok(self, traj: Trajectory, problem: Any, spec: _Spec) -> bool:
+        """Whether the cue tip stays on its schedule between the strike nodes."""
+        if spec.strike_phase < 0:
+            return True
+        phase = traj.phase("strike")
+        knots = traj.breakpoints
+        inside = knots[(knots >= phase.t_start - 1e-12) & (knots <= phase.t_end + 1e-12)]
+        fractions = np.array([0.25, 0.5, 0.75])
+        times = (inside[:-1, None] + fractions[None, :] * np.diff(inside)[:, None]).reshape(-1)
+        s = traj.sample(times)
+        robot = spec.robot
+        poses = robot.tool_pose(s.q)
+        direction = np.asarray(problem.direction)
+        speed = float(problem.speed)
+        schedule = problem.entry_point + speed * (times - phase.t_start)[:, None] * direction
+        gap = np.max(np.linalg.norm(poses[:, :3, 3] - schedule, axis=1))
+        axis = np.clip(poses[:, :3, 2] @ direction, -1.0, 1.0)
+        angle = np.max(np.arccos(axis))
+        jac = robot.jacobian(s.q)
+        velocity = np.einsum("kij,kj->ki", jac[:, :3, :], s.qd)
+        speed_error = np.max(np.linalg.norm(velocity - speed * direction, axis=1)) / speed
+        return bool(
+            gap <= 0.5 * problem.position_tolerance
+            and angle <= 0.5 * problem.angle_tolerance
+            and speed_error <= 0.5 * problem.speed_tolerance
+        )
+
+    # -- building ----------------------------------------------------------------------------
+
+    def _grids(self, spec: _Spec, strike_scale: int) -> tuple[PhaseGrid, ...]:
+        grids = []
+        for index, (name, fixed) in enumerate(zip(spec.names, spec.durations, strict=True)):
+            guess_phase = spec.guess.phase(name)
+            guess = max(guess_phase.duration, 1e-3) if fixed is None else fixed
+            step = self.strike_step if index == spec.strike_phase else self.step
+            if spec.intervals is not None:
+                count = spec.intervals[index]
+            elif isinstance(self.intervals, int):
+                count = self.intervals
+            elif isinstance(self.intervals, Mapping) and name in self.intervals:
+                count = self.intervals[name]
+            else:
+                count = int(np.clip(5 * np.ceil(guess / step / 5.0), 5, 60))
+                if fixed is None:  # room to grow: at least 1.25 x the guess at max_interval
+                    count = max(count, int(5 * np.ceil(1.25 * guess / self.max_interval / 5.0)))
+            if index == spec.strike_phase and strike_scale > 1:
+                count = min(count * strike_scale, MAX_STRIKE_INTERVALS)
+            upper = count * self.max_interval if fixed is None else fixed
+            if fixed is None and upper < guess:
+                guess = upper
+            grids.append(PhaseGrid(name, count, fixed, guess, upper))
+        return tuple(grids)
+
+    def _options(self) -> tuple[tuple[str, Any], ...]:
+        options: dict[str, Any] = {"print_time": False}
+        if self.solver == "ipopt":
+            options.update(
+                {
+                    "ipopt.print_level": 0,
+                    "ipopt.sb": "yes",
+                    "ipopt.tol": self.tolerance,
+                    "ipopt.constr_viol_tol": 1e-9,
+                    "ipopt.max_iter": self.max_iterations,
+                    "ipopt.mu_strategy": "monotone",
+                }
+            )
+        options.update(self.solver_options)
+        return tuple(sorted((k, _hashable(v)) for k, v in options.items()))
+
+    def _compile(self, structure: Structure, robot: Robot) -> CompiledNLP:
+        with self._lock:
+            compiled = self._compiled.get(structure)
+            if compiled is not None:
+                return compiled
+            model = self._models.get(robot.name)
+            if model is None:
+                model = self._models[robot.name] = SymbolicModel(robot)
+        compiled = compile_nlp(structure, model)
+        with self._lock:
+            return self._compiled.setdefault(structure, compiled)
+
+    def _build(
+        self,
+        problem: Any,
+        spec: _Spec,
+        weights: dict[str, float],
+        torque_nodes: tuple[int, ...],
+        strike_scale: int | None,
+        warm_start: Trajectory | None,
+        torque_margin: float | None = None,
+    ) -> OptimalControlProblem:
+        grids = self._grids(spec, strike_scale or 1)
+        intervals = tuple(g.intervals for g in grids)
+        first = np.concatenate([[0], np.cumsum(intervals)]).astype(int)
+        nodes = int(first[-1]) + 1
+        if self.torque is True:
+            torque_nodes = tuple(range(nodes))
+        structure = Structure(
+            robot=spec.robot.name,
+            limits=structure_limits(spec.limits),
+            tool_frame=spec.robot.tool_frame,
+            intervals=intervals,
+            free=tuple(g.duration is None for g in grids),
+            free_grid=self.free_grid,
+            strike_phase=spec.strike_phase,
+            contact_node=int(first[spec.contact_phase + 1]) if spec.contact_phase >= 0 else -1,
+            torque_nodes=tuple(n for n in torque_nodes if n < nodes),
+            weights=tuple(sorted(weights.items())),
+            margin=self.margin,
+            torque_margin=self.torque_margin if torque_margin is None else torque_margin,
+            solver=self.solver,
+            options=self._options(),
+        )
+        compiled = self._compile(structure, spec.robot)
+        layout = compiled.layout
+        mid, half, vel, acc, _ = compiled.scale
+        keep = 1.0 - self.margin
+
+        lbx = np.empty(layout.size)
+        ubx = np.empty(layout.size)
+        for i, grid in enumerate(grids):
+            index = slice(layout.first_node[i], layout.first_node[i + 1])
+            if grid.duration is None:
+                lbx[index], ubx[index] = MIN_INTERVAL, self.max_interval
+            else:
+                lbx[index] = ubx[index] = grid.duration / grid.intervals
+        x_lower = np.concatenate([-np.ones(spec.limits.n), -keep * np.ones(2 * spec.limits.n)])
+        lbx[layout.x_start : layout.u_start] = np.tile(x_lower, layout.nodes)
+        ubx[layout.x_start : layout.u_start] = np.tile(-x_lower, layout.nodes)
+        lbx[layout.u_start :] = -keep
+        ubx[layout.u_start :] = keep
+        for fixed in spec.fixed:
+            node = int(first[fixed.phase] if fixed.at == "start" else first[fixed.phase + 1])
+            for block, value, scale, shift in (
+                (0, fixed.q, half, mid),
+                (1, fixed.qd, vel, 0.0),
+                (2, fixed.qdd, acc, 0.0),
+            ):
+                if value is None:
+                    continue
+                tol = fixed.tolerance if block == 0 else 0.0
+                index = layout.x_index(node, block)
+                lbx[index] = (value - tol - shift) / scale
+                ubx[index] = (value + tol - shift) / scale
+
+        x0, lam_x0, lam_g0 = self._initial(spec, grids, compiled, lbx, ubx, warm_start)
+        params = dict(spec.params)
+        params["time_scale"] = sum(g.guess for g in grids)
+        return OptimalControlProblem(
+            problem=problem,
+            compiled=compiled,
+            grids=grids,
+            x0=x0,
+            lbx=lbx,
+            ubx=ubx,
+            p=parameter_vector(**params),
+            lam_x0=lam_x0,
+            lam_g0=lam_g0,
+            contact=spec.contact,
+            guess=spec.guess,
+        )
+
+    def _initial(
+        self,
+        spec: _Spec,
+        grids: tuple[PhaseGrid, ...],
+        compiled: CompiledNLP,
+        lbx: FloatArray,
+        ubx: FloatArray,
+        warm_start: Trajectory | None,
+    ) -> tuple[FloatArray, FloatArray | None, FloatArray | None]:
+        """Initial primal (and dual) values: a previous solution, or states sampled at nodes."""
+        if warm_start is not None:
+            saved = warm_start.metadata.get("warm_start")
+            if isinstance(saved, WarmStart) and saved.structure == compiled.structure:
+                return np.clip(saved.w, lbx, ubx), saved.lam_x, saved.lam_g
+        source = spec.guess
+        if warm_start is not None and {g.name for g in grids} <= {
+            p.name for p in warm_start.phases
+        }:
+            source = warm_start
+        layout = compiled.layout
+        mid, half, vel, acc, jerk = compiled.scale
+        x0 = np.zeros(layout.size)
+        for i, grid in enumerate(grids):
+            window = source.phase(grid.name)
+            duration = window.duration if grid.duration is None else grid.duration
+            x0[layout.first_node[i] : layout.first_node[i + 1]] = duration / grid.intervals
+            times = np.linspace(window.t_start, window.t_end, grid.intervals + 1)
+            sample = source.sample(times)
+            first = int(layout.first_node[i])
+            for j in range(grid.intervals + 1):
+                node = first + j
+                x0[layout.x_index(node, 0)] = (sample.q[j] - mid) / half
+                x0[layout.x_index(node, 1)] = sample.qd[j] / vel
+                x0[layout.x_index(node, 2)] = sample.qdd[j] / acc
+            h = max(duration / grid.intervals, 1e-9)
+            for j in range(grid.intervals):
+                x0[layout.u_index(first + j)] = (sample.qdd[j + 1] - sample.qdd[j]) / h / jerk
+        return np.clip(x0, lbx, ubx), None, None
+
+    # -- solving -----------------------------------------------------------------------------
+
+    def _solve(self, built: OptimalControlProblem) -> Trajectory:
+        compiled = built.compiled
+        warm = built.lam_x0 is not None
+        args: dict[str, Any] = {
+            "x0": built.x0,
+            "lbx": built.lbx,
+            "ubx": built.ubx,
+            "lbg": compiled.lbg,
+            "ubg": compiled.ubg,
+            "p": built.p,
+        }
+        if warm:
+            args["lam_x0"] = built.lam_x0
+            args["lam_g0"] = built.lam_g0
+        with compiled.lock:
+            solver = compiled.warm() if warm else compiled.solver
+            started = time.perf_counter()
+            result = solver(**args)
+            wall = time.perf_counter() - started
+            stats = solver.stats()
+        w = np.asarray(result["x"]).reshape(-1)
+        status = str(stats.get("return_status", "unknown"))
+        iterations = int(stats.get("iter_count", -1))
+        violations = built.violations(w)
+        worst_group = max(violations, key=violations.get)
+        worst = violations[worst_group]
+        if not stats.get("success", False) or not np.all(np.isfinite(w)) or worst > 1e-6:
+            raise SolverError(
+                self.solver,
+                status,
+                iterations=iterations,
+                detail=f"most violated: {worst_group} by {worst:.3g} (scaled)",
+            )
+        traj = _trajectory(built, w)
+        traj.metadata.update(
+            {
+                "solver": self.solver,
+                "status": "ok",
+                "solver_status": status,
+                "iterations": iterations,
+                "nlp_time": wall,
+                "objective": float(result["f"]),
+                "constraint_violation": worst,
+                "warm_started": warm,
+                "intervals": {g.name: g.intervals for g in built.grids},
+                "variables": built.variables,
+                "constraints": built.constraints,
+                "warm_start": WarmStart(
+                    compiled.structure,
+                    w,
+                    np.asarray(result["lam_x"]).reshape(-1),
+                    np.asarray(result["lam_g"]).reshape(-1),
+                ),
+            }
+        )
+        if built.contact is not None:
+            traj.metadata["contact_speed_ratio"] = built.contact.ratio
+            traj.metadata["contact_max_speed"] = built.contact.max_speed
+        return traj
+
+    # -- problems ------------------------------------------------------------------------------
+
+    def _spec(self, problem: Any) -> _Spec:
+        if isinstance(problem, PointToPoint):
+            return _point_to_point(problem)
+        if isinstance(problem, Waypoints):
+            return _waypoints(problem)
+        if isinstance(problem, PoolStrike):
+            choice = choose_contact(problem, candidates=self.contact_candidates)
+            return _pool(problem, choice)
+        if isinstance(problem, PaddleStrike):
+            choice = choose_contact(problem, candidates=self.contact_candidates)
+            return _paddle(problem, choice)
+        raise InvalidInputError(
+            f"OptimalControl plans a PointToPoint, Waypoints, PoolStrike or PaddleStrike, got "
+            f"{type(problem).__name__}",
+            name="problem",
+        )
+
+
+def _hashable(value: Any) -> Any:
+    if isinstance(value, dict):
+        return tuple(sorted((k, _hashable(v)) for k, v in value.items()))
+    if isinstance(value, list):
+        return tuple(_hashable(v) for v in value)
+    return value
+
+
+def _dense_times(traj: Trajectory, per_interval: int) -> FloatArray:
+    knots = traj.breakpoints
+    fractions = np.linspace(0.0, 1.0, per_interval + 1)[:-1]
+    inner = knots[:-1, None] + fractions[None, :] * np.diff(knots)[:, None]
+    return np.append(inner.reshape(-1), knots[-1])
+
+
+def _trajectory(built: OptimalControlProblem, w: FloatArray) -> Trajectory:
+    """The solution as a piecewise cubic, integrated exactly from the first node."""
+    compiled = built.compiled
+    layout = compiled.layout
+    mid, half, vel, acc, jerk = compiled.scale
+    durations, states, jerks = layout.split(w)
+    n = layout.n
+    q = mid + half * states[0, :n]
+    v = vel * states[0, n : 2 * n]
+    a = acc * states[0, 2 * n :]
+    coefficients = np.empty((layout.K, 4, n))
+    knots = np.zeros(layout.K + 1)
+    for k in range(layout.K):
+        h = durations[k]
+        u = jerk * jerks[k]
+        coefficients[k] = (q, v, a / 2.0, u / 6.0)
+        q = q + h * v + h**2 / 2.0 * a + h**3 / 6.0 * u
+        v = v + h * a + h**2 / 2.0 * u
+        a = a + h * u
+        knots[k + 1] = knots[k] + h
+    phases = [
+        Phase(grid.name, float(knots[layout.first_node[i]]), float(knots[layout.first_node[i + 1]]))
+        for i, grid in enumerate(built.grids)
+    ]
+    names = built.problem.limits.names
+    return Trajectory(knots, coefficients, joint_names=names, phases=phases, metadata={})
+
+
+# ---------------------------------------------------------------------------- problem specs
+
+
+def _zeros(n: int) -> FloatArray:
+    return np.zeros(n)
+
+
+def _quintic(
+    q0: FloatArray,
+    q1: FloatArray,
+    duration: float,
+    v1: FloatArray | None = None,
+    a1: FloatArray | None = None,
+) -> Trajectory:
+    n = q0.size
+    coefficients = quintic_coefficients(
+        q0, q1, duration, 0.0, _zeros(n) if v1 is None else v1, 0.0, _zeros(n) if a1 is None else a1
+    )
+    return Trajectory([0.0, duration], coefficients[None])
+
+
+def _guess_move(
+    q0: FloatArray,
+    v0: FloatArray,
+    a0: FloatArray,
+    q1: FloatArray,
+    v1: FloatArray,
+    a1: FloatArray,
+    limits: JointLimits,
+    duration: float | None = None,
+) -> Trajectory:
+    """Ruckig's time-optimal move (limits not enforced: it is only a guess)."""
+    try:
+        return state_to_state(
+            q0, v0, a0, q1, v1, a1, limits, minimum_duration=duration, check_limits=False
+        )
+    except OptrajError:
+        span = np.max(np.abs(q1 - q0) / limits.velocity)
+        return _quintic(q0, q1, duration or max(2.0 * span, 0.2), v1, a1)
+
+
+def _point_to_point(problem: PointToPoint) -> _Spec:
+    limits = problem.limits
+    n = limits.n
+    a0 = _zeros(n) if problem.qdd_start is None else problem.qdd_start
+    a1 = _zeros(n) if problem.qdd_goal is None else problem.qdd_goal
+    guess = _guess_move(
+        problem.q_start,
+        problem.qd_start,
+        a0,
+        problem.q_goal,
+        problem.qd_goal,
+        a1,
+        limits,
+        problem.duration,
+    )
+    if problem.duration is not None and guess.duration > problem.duration * (1 + 1e-9):
+        raise InfeasibleError(
+            f"the move needs at least {guess.duration:.4g} s within the velocity, acceleration "
+            f"and jerk limits; duration is {problem.duration:.4g} s",
+            limit="duration",
+            required=guess.duration,
+            allowed=problem.duration,
+        )
+    guess = Trajectory(
+        guess.breakpoints, guess.coefficients, phases=[Phase("move", 0.0, guess.duration)]
+    )
+    return _Spec(
+        robot=problem.robot,
+        limits=limits,
+        names=("move",),
+        durations=(problem.duration,),
+        guess=guess,
+        fixed=[
+            _Fixed(0, "start", problem.q_start, problem.qd_start, a0),
+            _Fixed(0, "end", problem.q_goal, problem.qd_goal, a1),
+        ],
+    )
+
+
+def _waypoints(problem: Waypoints) -> _Spec:
+    limits = problem.limits
+    n = limits.n
+    points = np.asarray(problem.waypoints)
+    fixed_durations = problem.segment_durations
+    pieces = []
+    names = []
+    for k in range(len(points) - 1):
+        duration = None if fixed_durations is None else float(fixed_durations[k])
+        pieces.append(
+            (
+                f"segment {k + 1}",
+                [
+                    _guess_move(
+                        points[k],
+                        _zeros(n),
+                        _zeros(n),
+                        points[k + 1],
+                        _zeros(n),
+                        _zeros(n),
+                        limits,
+                        duration,
+                    )
+                ],
+            )
+        )
+        names.append(f"segment {k + 1}")
+    guess = Trajectory.sequence(pieces, joint_names=limits.names)
+    tol = 0.0 if problem.via_tolerance is None else float(problem.via_tolerance)
+    fixed = [_Fixed(0, "start", points[0], _zeros(n), _zeros(n))]
+    fixed += [_Fixed(k, "end", points[k + 1], None, None, tol) for k in range(len(points) - 2)]
+    fixed.append(_Fixed(len(points) - 2, "end", points[-1], _zeros(n), _zeros(n)))
+    durations = tuple(
+        None if fixed_durations is None else float(d)
+        for d in (fixed_durations if fixed_durations is not None else [None] * len(names))
+    )
+    return _Spec(problem.robot, limits, tuple(names), durations, guess, fixed)
+
+
+def _orthonormal(direction: FloatArray) -> tuple[FloatArray, FloatArray]:
+    helper = np.eye(3)[int(np.argmin(np.abs(direction)))]
+    e1 = np.cross(direction, helper)
+    e1 /= np.linalg.norm(e1)
+    return e1, np.cross(direction, e1)
+
+
+def _pool(problem: PoolStrike, choice: ContactChoice) -> _Spec:
+    limits = problem.limits
+    n = limits.n
+    line = strike_line(problem, 30, q_contact=choice.q)
+    entry = line.sample(0.0)
+    leave = line.sample(line.duration)
+    approach = _guess_move(
+        problem.q_start, _zeros(n), _zeros(n), entry.q, entry.qd, entry.qdd, limits
+    )
+    try:
+        brake = stop(leave.q, leave.qd, leave.qdd, limits, check_limits=False)
+    except OptrajError:
+        brake = _quintic(leave.q, leave.q + 0.1 * leave.qd, 0.2)  # pragma: no cover
+    guess = Trajectory.sequence(
+        [("approach", [approach]), ("strike", [line]), ("stop", [brake])], joint_names=limits.names
+    )
+    direction = np.asarray(problem.direction)
+    e1, e2 = _orthonormal(direction)
+    return _Spec(
+        robot=problem.robot,
+        limits=limits,
+        names=("approach", "strike", "stop"),
+        durations=(None, problem.window, None),
+        guess=guess,
+        fixed=[
+            _Fixed(0, "start", np.asarray(problem.q_start), _zeros(n), _zeros(n)),
+            _Fixed(2, "end", None, _zeros(n), _zeros(n)),
+        ],
+        params={
+            "entry": problem.entry_point,
+            "direction": direction,
+            "e1": e1,
+            "e2": e2,
+            "speed": float(problem.speed),
+        },
+        strike_phase=1,
+        contact=choice,
+    )
+
+
+def _paddle(problem: PaddleStrike, choice: ContactChoice) -> _Spec:
+    limits = problem.limits
+    n = limits.n
+    q_contact = np.asarray(problem.q_contact)
+    contact_time = float(problem.contact_time)
+    start = _Fixed(0, "start", np.asarray(problem.q_start), _zeros(n), _zeros(n))
+    if float(problem.speed) == 0.0:
+        approach = _quintic(np.asarray(problem.q_start), q_contact, contact_time)
+        guess = Trajectory.sequence([("approach", [approach])], joint_names=limits.names)
+        return _Spec(
+            robot=problem.robot,
+            limits=limits,
+            names=("approach",),
+            durations=(contact_time,),
+            guess=guess,
+            fixed=[start, _Fixed(0, "end", q_contact, _zeros(n), _zeros(n))],
+        )
+    qd_contact = choice.qd
+    approach = _quintic(np.asarray(problem.q_start), q_contact, contact_time, qd_contact)
+    try:
+        brake = stop(q_contact, qd_contact, _zeros(n), limits, check_limits=False)
+    except OptrajError:  # pragma: no cover - a guess only
+        brake = _quintic(q_contact, q_contact, 0.5)
+    guess = Trajectory.sequence(
+        [("approach", [approach]), ("stop", [brake])], joint_names=limits.names
+    )
+    return _Spec(
+        robot=problem.robot,
+        limits=limits,
+        names=("approach", "stop"),
+        durations=(contact_time, None),
+        guess=guess,
+        fixed=[
+            start,
+            _Fixed(0, "end", q_contact, None, None),
+            _Fixed(1, "end", None, _zeros(n), _zeros(n)),
+        ],
+        params={
+            "contact_velocity": float(problem.speed) * problem.normal,
+            "offset": BALL_OFFSET,
+        },
+        contact_phase=0,
+        contact=choice,
+    )

@@ -1,0 +1,408 @@
+r"""Multiple-shooting transcription of a multi-phase joint motion into a CasADi NLP.
+
+The motion is split into phases (e.g. approach, strike, stop), phase :math:`p` into
+:math:`N_p` equal intervals of length :math:`h_p = T_p / N_p`. The state at every node is
+:math:`x_k = (q_k, \dot q_k, \ddot q_k)`; the jerk :math:`u_k` is constant on interval
+:math:`k`, so the motion is a cubic on each interval and a step is the exact
+triple-integrator map
+
+.. math::
+
+    q_{k+1} &= q_k + h \dot q_k + \tfrac{h^2}{2} \ddot q_k + \tfrac{h^3}{6} u_k \\
+    \dot q_{k+1} &= \dot q_k + h \ddot q_k + \tfrac{h^2}{2} u_k \\
+    \ddot q_{k+1} &= \ddot q_k + h u_k
+
+imposed as equality constraints (multiple shooting). States and jerks are scaled by their
+limits (positions by the half range about the middle of the range), durations are in
+seconds.
+
+Limits hold everywhere, not only at the nodes: acceleration is linear and jerk constant on
+an interval, so node bounds suffice for them; velocity (quadratic) and position (cubic) are
+bounded by the Bernstein coefficients of their polynomials on each interval, which bound the
+polynomial from both sides (convex-hull property). Torques are constrained at chosen nodes
+only (symbolic RNEA); the planner verifies them between nodes.
+
+Task rows:
+
+* a strike phase (pool cue): at every node the tool origin is on the schedule
+  :math:`p_{entry} + v\,t\,d` and the tool z axis has no component along two unit vectors
+  :math:`e_1, e_2` perpendicular to :math:`d` (with :math:`d \cdot z \ge 0`), so the roll
+  stays free; the tool velocity equals :math:`v d` at the window's entry and exit only
+  (the positions on the schedule fix the speed in between; equalities at every node would
+  over-determine a 7-DOF arm whose last joint only rolls the cue);
+* a contact node (paddle): the velocity of a point ``offset`` along the tool z axis equals a
+  given vector.
+
+Fixed boundary states, via points and the contact configuration are variable bounds, so one
+compiled NLP serves every problem with the same :class:`Structure`; the strike line and the
+contact velocity are NLP parameters (:data:`PARAMETERS`).
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import casadi as ca
+import numpy as np
+from numpy.typing import NDArray
+
+from robots import JointLimits, SymbolicModel
+
+__all__ = [
+    "PARAMETERS",
+    "CompiledNLP",
+    "Layout",
+    "Structure",
+    "compile_nlp",
+    "parameter_vector",
+    "structure_limits",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: NLP parameters, name and size, in order.
+PARAMETERS: tuple[tuple[str, int], ...] = (
+    ("time_scale", 1),  # [s] divides every cost term so that the objective is O(1)
+    ("entry", 3),  # strike line entry point [m]
+    ("direction", 3),  # strike direction d [-]
+    ("e1", 3),  # unit vectors perpendicular to d [-]
+    ("e2", 3),
+    ("speed", 1),  # strike speed [m/s]
+    ("contact_velocity", 3),  # required velocity of the contact point [m/s]
+    ("offset", 1),  # contact point offset along tool z [m]
+)
+
+
+def parameter_vector(**values: Any) -> FloatArray:
+    """The parameter vector of :data:`PARAMETERS`; missing entries are zero (time_scale 1)."""
+    parts = []
+    for name, size in PARAMETERS:
+        default = 1.0 if name == "time_scale" else 0.0
+        value = np.asarray(values.pop(name, np.full(size, default)), dtype=float).reshape(-1)
+        if value.size != size:
+            raise ValueError(f"parameter {name} needs {size} values, got {value.size}")
+        parts.append(value)
+    if values:
+        raise ValueError(f"unknown parameters {sorted(values)}")
+    return np.concatenate(parts)
+
+
+@dataclass(frozen=True)
+class Structure:
+    """Everything that shapes the NLP; equal structures share one compiled solver.
+
+    Attributes:
+        robot: Robot name (with ``limits`` it identifies the constants in the NLP).
+        limits: Limit rows (lower, upper, velocity, acceleration, jerk, effort) as tuples.
+        tool_frame: Frame whose pose the task rows constrain.
+        intervals: Intervals per phase.
+        free: Per phase, whether its duration is a decision (else fixed by bounds).
+        strike_phase: Index of the strike phase, or -1.
+        contact_node: Node of the contact velocity rows, or -1.
+        torque_nodes: Nodes with torque rows.
+        weights: Objective weights as ``(term, weight)`` pairs (time, jerk, effort, posture).
+        margin: Fraction of the velocity, acceleration and jerk limits kept free [-].
+        torque_margin: Fraction of the torque limits kept free at torque nodes [-].
+        solver: CasADi NLP plugin name.
+        options: Solver options as sorted ``(key, value)`` pairs.
+    """
+
+    robot: str
+    limits: tuple[tuple[float, ...], ...]
+    tool_frame: str
+    intervals: tuple[int, ...]
+    free: tuple[bool, ...]
+    free_grid: bool = True
+    strike_phase: int = -1
+    contact_node: int = -1
+    torque_nodes: tuple[int, ...] = ()
+    weights: tuple[tuple[str, float], ...] = (("time", 1.0),)
+    margin: float = 0.0
+    torque_margin: float = 0.0
+    solver: str = "ipopt"
+    options: tuple[tuple[str, Any], ...] = ()
+
+
+class Layout:
+    """Where each quantity sits in the decision vector ``w``.
+
+    ``w = [h_0 .. h_{K-1}, x_0 .. x_K, u_0 .. u_{K-1}]``: interval lengths [s], scaled node
+    states ``(zq, zv, za)`` (3n each) and scaled jerks (n each).
+
+    Args:
+        n: Joint count.
+        intervals: Intervals per phase.
+    """
+
+    def __init__(self, n: int, intervals: Sequence[int]) -> None:
+        self.n = n
+        self.intervals = tuple(int(i) for i in intervals)
+        self.phases = len(self.intervals)
+        self.K = sum(self.intervals)
+        self.nodes = self.K + 1
+        self.x_start = self.K
+        self.u_start = self.x_start + 3 * n * self.nodes
+        self.size = self.u_start + n * self.K
+        #: Phase of each interval, shape (K,).
+        self.phase_of = np.repeat(np.arange(self.phases), self.intervals)
+        #: First node of each phase, shape (P + 1,) (the last entry is K).
+        self.first_node = np.concatenate([[0], np.cumsum(self.intervals)]).astype(int)
+
+    def x_index(self, node: int, block: int) -> slice:
+        """Indices of block 0 (zq), 1 (zv) or 2 (za) of a node's state."""
+        start = self.x_start + 3 * self.n * node + block * self.n
+        return slice(start, start + self.n)
+
+    def u_index(self, interval: int) -> slice:
+        """Indices of an interval's scaled jerk."""
+        start = self.u_start + self.n * interval
+        return slice(start, start + self.n)
+
+    def split(self, w: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """``(h, X, U)``: interval lengths (K,), scaled states (K + 1, 3n), jerks (K, n)."""
+        durations = w[: self.K]
+        states = w[self.x_start : self.u_start].reshape(self.nodes, 3 * self.n)
+        jerks = w[self.u_start :].reshape(self.K, self.n)
+        return durations, states, jerks
+
+
+@dataclass
+class CompiledNLP:
+    """A CasADi NLP and its solver, built once per :class:`Structure`.
+
+    Attributes:
+        structure: What it was built for.
+        layout: Decision vector layout.
+        w: Decision variables (SX).
+        p: Parameters (SX), see :data:`PARAMETERS`.
+        f: Objective (SX).
+        g: Constraints (SX).
+        lbg: Lower constraint bounds, shape (m,).
+        ubg: Upper constraint bounds, shape (m,).
+        groups: ``(name, first row, end row)`` of each constraint group in ``g``.
+        scale: Physical scales ``(mid, half, velocity, acceleration, jerk)``, each (n,).
+        solver: ``nlpsol`` for cold starts.
+        lock: Serialises calls of the solvers.
+    """
+
+    structure: Structure
+    layout: Layout
+    w: ca.SX
+    p: ca.SX
+    f: ca.SX
+    g: ca.SX
+    lbg: FloatArray
+    ubg: FloatArray
+    groups: tuple[tuple[str, int, int], ...]
+    scale: tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
+    solver: ca.Function
+    warm_solver: ca.Function | None = None
+    lock: threading.Lock = field(default_factory=threading.Lock)
+
+    def warm(self) -> ca.Function:
+        """The solver set up for warm starts (primal and dual), built on first use."""
+        if self.warm_solver is None:
+            options = dict(self.structure.options)
+            if self.structure.solver == "ipopt":
+                options["ipopt.warm_start_init_point"] = "yes"
+                options["ipopt.warm_start_bound_push"] = 1e-9
+                options["ipopt.warm_start_mult_bound_push"] = 1e-9
+                options["ipopt.mu_init"] = 1e-6
+            self.warm_solver = _nlpsol(self, options)
+        return self.warm_solver
+
+
+def _nlpsol(compiled: CompiledNLP, options: dict[str, Any]) -> ca.Function:
+    nlp = {"x": compiled.w, "p": compiled.p, "f": compiled.f, "g": compiled.g}
+    return ca.nlpsol("optraj_ocp", compiled.structure.solver, nlp, options)
+
+
+class _Rows:
+    """Constraint rows collected group by group."""
+
+    def __init__(self) -> None:
+        self.rows: list[ca.SX] = []
+        self.lower: list[FloatArray] = []
+        self.upper: list[FloatArray] = []
+        self.groups: list[tuple[str, int, int]] = []
+        self.count = 0
+
+    def add(self, name: str, expr: ca.SX, lower: float | FloatArray, upper: float | FloatArray):
+        size = int(expr.numel())
+        if size == 0:
+            return
+        self.rows.append(ca.vec(expr))
+        self.lower.append(np.broadcast_to(np.asarray(lower, float).reshape(-1), (size,)))
+        self.upper.append(np.broadcast_to(np.asarray(upper, float).reshape(-1), (size,)))
+        if self.groups and self.groups[-1][0] == name and self.groups[-1][2] == self.count:
+            self.groups[-1] = (name, self.groups[-1][1], self.count + size)
+        else:
+            self.groups.append((name, self.count, self.count + size))
+        self.count += size
+
+
+def structure_limits(limits: JointLimits) -> tuple[tuple[float, ...], ...]:
+    """Limit rows of a :class:`Structure`: lower, upper, velocity, acceleration, jerk, effort."""
+    return tuple(
+        tuple(float(v) for v in values)
+        for values in (
+            limits.lower,
+            limits.upper,
+            limits.velocity,
+            limits.acceleration,
+            limits.jerk,
+            limits.effort,
+        )
+    )
+
+
+def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
+    """Build the NLP of ``structure`` (fully expanded SX) and its solver.
+
+    Args:
+        structure: The NLP's shape and constants.
+        symbolic: Symbolic kinematics and dynamics of the robot.
+
+    Returns:
+        The compiled NLP.
+    """
+    lower, upper, vel, acc, jerk, effort = (np.asarray(r) for r in structure.limits)
+    n = lower.size
+    layout = Layout(n, structure.intervals)
+    mid, half = 0.5 * (lower + upper), 0.5 * (upper - lower)
+    w = ca.SX.sym("w", layout.size)
+    p = ca.SX.sym("p", sum(size for _, size in PARAMETERS))
+    params: dict[str, ca.SX] = {}
+    offset = 0
+    for name, size in PARAMETERS:
+        params[name] = p[offset : offset + size]
+        offset += size
+
+    h = [w[k] for k in range(layout.K)]
+
+    def state(node: int) -> tuple[ca.SX, ca.SX, ca.SX]:
+        zq, zv, za = (w[layout.x_index(node, b)] for b in range(3))
+        return mid + half * zq, vel * zv, acc * za
+
+    rows = _Rows()
+    keep = 1.0 - structure.margin
+    weights = dict(structure.weights)
+    time_scale = params["time_scale"]
+    cost = ca.SX(0.0)
+    for k in range(layout.K):
+        phase = int(layout.phase_of[k])
+        if structure.free[phase] and weights.get("time", 0.0):
+            cost += weights["time"] * h[k] / time_scale
+        if structure.free[phase] and k + 1 < layout.K and int(layout.phase_of[k + 1]) == phase:
+            if not structure.free_grid:
+                rows.add("uniform grid", h[k + 1] - h[k], 0.0, 0.0)
+            elif weights.get("grid", 0.0):
+                cost += weights["grid"] * layout.K * ((h[k + 1] - h[k]) / time_scale) ** 2
+
+    rnea = symbolic.rnea()
+    for k in range(layout.K):
+        hk = h[k]
+        q0, v0, a0 = state(k)
+        q1, v1, a1 = state(k + 1)
+        zu = w[layout.u_index(k)]
+        u = jerk * zu
+        rows.add(
+            "dynamics",
+            ca.vertcat(
+                (q1 - (q0 + hk * v0 + hk**2 / 2 * a0 + hk**3 / 6 * u)) / half,
+                (v1 - (v0 + hk * a0 + hk**2 / 2 * u)) / vel,
+                (a1 - (a0 + hk * u)) / acc,
+            ),
+            0.0,
+            0.0,
+        )
+        rows.add("velocity between nodes", (v0 + hk / 2 * a0) / vel, -keep, keep)
+        rows.add(
+            "position between nodes",
+            ca.vertcat((q0 + hk / 3 * v0 - mid) / half, (q1 - hk / 3 * v1 - mid) / half),
+            -1.0,
+            1.0,
+        )
+        if weights.get("jerk", 0.0):
+            cost += weights["jerk"] * hk * ca.sumsqr(zu) / (n * time_scale)
+        if weights.get("posture", 0.0):
+            cost += weights["posture"] * hk * ca.sumsqr((q0 - mid) / half) / (n * time_scale)
+        if weights.get("effort", 0.0):
+            tau = rnea(q0, v0, a0) / effort
+            cost += weights["effort"] * hk * ca.sumsqr(tau) / (n * time_scale)
+
+    if structure.strike_phase >= 0:
+        _strike_rows(rows, structure, layout, symbolic, params, h, state)
+    if structure.contact_node >= 0:
+        _contact_rows(rows, structure, symbolic, params, state)
+    for node in structure.torque_nodes:
+        tau = rnea(*state(node)) / effort
+        limit = 1.0 - structure.torque_margin
+        rows.add("torque", tau, -limit, limit)
+
+    g = ca.vertcat(*rows.rows)
+    compiled = CompiledNLP(
+        structure=structure,
+        layout=layout,
+        w=w,
+        p=p,
+        f=cost,
+        g=g,
+        lbg=np.concatenate(rows.lower),
+        ubg=np.concatenate(rows.upper),
+        groups=tuple(rows.groups),
+        scale=(mid, half, vel, acc, jerk),
+        solver=None,  # type: ignore[arg-type]
+    )
+    compiled.solver = _nlpsol(compiled, dict(structure.options))
+    return compiled
+
+
+def _strike_rows(
+    rows: _Rows,
+    structure: Structure,
+    layout: Layout,
+    symbolic: SymbolicModel,
+    params: dict[str, ca.SX],
+    h: list[ca.SX],
+    state: Any,
+) -> None:
+    """Cue tip on the schedule, cue axis on the line at every node; speed at entry and exit."""
+    ph = structure.strike_phase
+    position = symbolic.frame_position(structure.tool_frame)
+    rotation = symbolic.frame_rotation(structure.tool_frame)
+    jacobian = symbolic.frame_jacobian(structure.tool_frame)
+    entry, d, e1, e2 = params["entry"], params["direction"], params["e1"], params["e2"]
+    speed = params["speed"]
+    first, last = int(layout.first_node[ph]), int(layout.first_node[ph + 1])
+    for j, node in enumerate(range(first, last + 1)):
+        q, qd, _ = state(node)
+        target = entry + speed * ca.sum1(ca.vertcat(0, *h[first : first + j])) * d
+        rows.add("strike position", position(q) - target, 0.0, 0.0)
+        z = rotation(q)[:, 2]
+        rows.add("strike axis", ca.vertcat(ca.dot(e1, z), ca.dot(e2, z)), 0.0, 0.0)
+        rows.add("strike axis sign", ca.dot(d, z), 0.0, np.inf)
+        if node in (first, last):
+            velocity = jacobian(q)[:3, :] @ qd
+            rows.add("strike speed", velocity - speed * d, 0.0, 0.0)
+
+
+def _contact_rows(
+    rows: _Rows,
+    structure: Structure,
+    symbolic: SymbolicModel,
+    params: dict[str, ca.SX],
+    state: Any,
+) -> None:
+    """Velocity of the contact point (``offset`` along tool z) at the contact node."""
+    rotation = symbolic.frame_rotation(structure.tool_frame)
+    jacobian = symbolic.frame_jacobian(structure.tool_frame)
+    q, qd, _ = state(structure.contact_node)
+    jac = jacobian(q)
+    lever = params["offset"] * rotation(q)[:, 2]
+    twist = jac @ qd
+    velocity = twist[:3] + ca.cross(twist[3:], lever)
+    rows.add("contact velocity", velocity - params["contact_velocity"], 0.0, 0.0)

@@ -1,0 +1,308 @@
+"""Tests of planners.optimal_control: every result judged by the independent checker."""
+
+from __future__ import annotations
+
+import dataclasses
+import pickle
+import time
+
+import numpy as np
+import pytest
+from conftest import get_robot
+
+import problems
+from optraj.errors import (
+    InfeasibleError,
+    InvalidInputError,
+    MissingDependencyError,
+    SolverError,
+    UnknownNameError,
+)
+from planners import Quintic, Trajectory, check, lower_bound
+from planners.optimal_control import OptimalControl, WarmStart
+
+SAWYER_SHOT = {"x": (0.65, 0.85), "y": (-0.05, 0.3), "z": (-0.1, 0.0), "heading": (-20.0, 20.0)}
+
+
+def _shots(count: int, speed: float, seed: int = 7):
+    rng = np.random.default_rng(seed)
+    for _ in range(count):
+        ball = tuple(rng.uniform(*SAWYER_SHOT[axis]) for axis in "xyz")
+        yield problems.sawyer_pool_shot(
+            speed, ball, heading_deg=rng.uniform(*SAWYER_SHOT["heading"])
+        )
+
+
+def _jerk_integral(traj) -> float:
+    """Integral of the squared jerk over the motion, from dense samples [rad^2/s^5]."""
+    times = np.linspace(0.0, traj.duration, 4001)
+    jerk = traj.sample(times).jerk
+    return float(np.trapezoid(np.sum(jerk**2, axis=1), times))
+
+
+# ------------------------------------------------------------------------------ strikes
+
+
+def test_pool_strikes_at_1_m_s_pass_the_checker_or_say_why():
+    planner = OptimalControl("time")
+    solved = 0
+    for problem in _shots(20, speed=1.0):
+        try:
+            traj = planner.plan(problem)
+        except InfeasibleError as exc:
+            assert exc.joint in problem.robot.joint_names and exc.required > exc.allowed
+            continue
+        report = check(traj, problem)  # every limit, torque and jerk included, and the strike
+        assert report.ok, report.summary()
+        assert [p.name for p in traj.phases] == ["approach", "strike", "stop"]
+        assert traj.phase("strike").duration == pytest.approx(problem.window, abs=1e-9)
+        solved += 1
+    assert solved >= 19
+
+
+def test_a_strike_faster_than_any_contact_allows_is_named_within_a_second():
+    planner = OptimalControl("time")
+    with pytest.raises(InfeasibleError):  # warm-up: loads the LP plugin
+        planner.plan(problems.sawyer_pool_shot(3.0))
+    for problem in _shots(3, speed=2.5, seed=11):
+        started = time.perf_counter()
+        with pytest.raises(InfeasibleError, match=r"strike speed 2\.5 m/s needs") as info:
+            planner.plan(problem)
+        assert time.perf_counter() - started < 1.0
+        error = info.value
+        assert error.limit == "velocity" and error.joint in problem.robot.joint_names
+        assert error.required > error.allowed
+        assert 0.0 < error.max_speed < 2.5  # the best reachable speed, in the message too
+        assert f"{error.max_speed:.3g} m/s" in str(error)
+
+
+def _paddle_problems(count: int, seed: int = 3):
+    robot = get_robot("paddle4")
+    rng = np.random.default_rng(seed)
+    made = 0
+    while made < count:
+        ball = (rng.uniform(0.5, 1.1), rng.uniform(-0.6, 0.6), rng.uniform(0.1, 0.7))
+        speed = 0.0 if made % 2 == 0 else rng.uniform(0.2, 0.8)
+        yield problems.PaddleStrike(
+            robot, ball=ball, contact_angle=rng.uniform(-1.0, 1.0), speed=speed
+        )
+        made += 1
+
+
+def test_paddle_strikes_pass_the_checker():
+    planner = OptimalControl("time")
+    for problem in _paddle_problems(20):
+        try:
+            traj = planner.plan(problem)
+        except InfeasibleError as exc:  # a contact speed beyond the joints
+            assert exc.joint in problem.robot.joint_names
+            continue
+        report = check(traj, problem)
+        assert report.ok, report.summary()
+        if problem.speed == 0.0:  # the seed's task: at the ball at rest after exactly T
+            assert traj.duration == pytest.approx(problem.contact_time, abs=1e-9)
+
+
+# ----------------------------------------------------------------------------- joint moves
+
+
+def test_min_time_moves_come_within_0_2_percent_of_the_lower_bound():
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(5)
+    planner = OptimalControl("time")
+    for _ in range(20):
+        q = robot.random_configurations(2, rng)
+        problem = problems.PointToPoint(robot, q[0], q[1])
+        traj = planner.plan(problem)
+        bound = lower_bound(problem)
+        assert bound * (1.0 - 1e-9) <= traj.duration <= 1.002 * bound
+        report = check(traj, problem)
+        assert report.ok, report.summary()
+
+
+def test_min_jerk_with_a_fixed_duration_approaches_the_quintic():
+    # The minimum-jerk rest-to-rest motion of a fixed duration is the quintic (Flash & Hogan
+    # 1985); with piecewise-constant jerk the optimum can only come close to it from above.
+    robot = get_robot("youbot")
+    q0 = robot.home
+    q1 = q0 + 0.3 * (robot.limits.upper - q0)
+    problem = problems.PointToPoint(robot, q0, q1, duration=3.0)
+    traj = OptimalControl("jerk", regularization=0.0, intervals=60).plan(problem)
+    quintic = Quintic(duration=3.0).plan(problem)
+    assert check(traj, problem).ok
+    assert traj.duration == pytest.approx(3.0, abs=1e-9)
+    ours, best = _jerk_integral(traj), _jerk_integral(quintic)
+    assert best <= ours <= 1.05 * best
+    times = np.linspace(0.0, 3.0, 301)
+    gap = np.abs(traj.sample(times).q - quintic.sample(times).q)
+    assert gap.max() < 0.02 * np.abs(q1 - q0).max()
+
+
+def test_min_effort_needs_less_torque_than_min_jerk():
+    robot = get_robot("youbot")
+    q0 = robot.home
+    q1 = q0 + 0.4 * (robot.limits.upper - q0)
+    problem = problems.PointToPoint(robot, q0, q1, duration=2.5)
+
+    def effort(traj) -> float:  # integral of squared torques over the effort limits
+        times = np.linspace(0.0, traj.duration, 2001)
+        s = traj.sample(times)
+        tau = robot.inverse_dynamics(s.q, s.qd, s.qdd) / robot.limits.effort
+        return float(np.trapezoid(np.sum(tau**2, axis=1), times))
+
+    smooth = OptimalControl("jerk").plan(problem)
+    strong = OptimalControl("effort").plan(problem)
+    assert check(strong, problem).ok
+    assert effort(strong) < effort(smooth)
+
+
+def test_any_start_and_goal_state():
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(8)
+    q = robot.random_configurations(2, rng)
+    qd_goal = 0.3 * robot.limits.velocity * rng.uniform(-1.0, 1.0, robot.dof)
+    problem = problems.PointToPoint(robot, q[0], q[1], qd_goal=qd_goal)
+    traj = OptimalControl("time").plan(problem)
+    report = check(traj, problem)
+    assert report.ok, report.summary()
+    np.testing.assert_allclose(traj.sample(traj.duration).qd, qd_goal, atol=1e-6)
+
+
+def test_waypoints_are_passed_through():
+    robot = get_robot("youbot")
+    rng = np.random.default_rng(4)
+    points = robot.random_configurations(4, rng)
+    problem = problems.Waypoints(robot, points, via_tolerance=1e-6)
+    traj = OptimalControl("time").plan(problem)
+    report = check(traj, problem)
+    assert report.ok, report.summary()
+    assert [p.name for p in traj.phases] == ["segment 1", "segment 2", "segment 3"]
+
+
+def test_a_torque_limit_that_binds_gets_rows_and_holds():
+    robot = get_robot("youbot")
+    q0 = robot.home
+    q1 = q0 + 0.6 * (robot.limits.upper - q0)
+    unlimited = OptimalControl("time").plan(problems.PointToPoint(robot, q0, q1))
+    times = np.linspace(0.0, unlimited.duration, 2001)
+    s = unlimited.sample(times)
+    peak = np.max(np.abs(robot.inverse_dynamics(s.q, s.qd, s.qdd)), axis=0)
+    gravity = np.max(
+        np.abs(robot.inverse_dynamics(s.q, np.zeros_like(s.q), np.zeros_like(s.q))), axis=0
+    )
+    # Between what gravity needs and what the fastest move uses: the limit must bind.
+    effort = np.minimum(robot.limits.effort, np.maximum(1.02 * gravity, 0.9 * peak))
+    limits = dataclasses.replace(robot.limits, effort=effort)
+    problem = problems.PointToPoint(robot, q0, q1, limits=limits)
+    traj = OptimalControl("time").plan(problem)
+    report = check(traj, problem)
+    assert report.ok, report.summary()
+    assert traj.metadata["torque_rows"] > 0
+    assert traj.duration > unlimited.duration
+
+
+def test_a_torque_limit_gravity_alone_breaks_is_infeasible():
+    robot = get_robot("youbot")
+    q0 = robot.home
+    q1 = q0 + 0.5 * (robot.limits.upper - q0)
+    gravity = np.abs(robot.gravity_torque(q1))
+    limits = dataclasses.replace(robot.limits, effort=np.maximum(0.5 * gravity, 1e-3))
+    problem = problems.PointToPoint(robot, q0, q1, limits=limits)
+    with pytest.raises((InfeasibleError, SolverError)):
+        OptimalControl("time").plan(problem)
+
+
+def test_a_fixed_duration_shorter_than_the_limits_allow_is_infeasible():
+    robot = get_robot("sawyer")
+    q0 = robot.home
+    q1 = q0 + 0.5 * (robot.limits.upper - q0)
+    problem = problems.PointToPoint(robot, q0, q1, duration=0.2)
+    with pytest.raises(InfeasibleError, match="needs at least"):
+        OptimalControl().plan(problem)
+
+
+# ------------------------------------------------------------- build, solve, warm starts
+
+
+def test_build_and_solve_apart():
+    problem = next(_shots(1, speed=1.0))
+    planner = OptimalControl("time")
+    built = planner.build(problem)
+    names = {name for name, _, _ in built.compiled.groups}
+    assert {"dynamics", "strike position", "strike axis", "strike speed"} <= names
+    assert built.variables == built.compiled.w.numel() and built.constraints > 0
+    assert np.all(built.lbx <= built.x0) and np.all(built.x0 <= built.ubx)
+    assert built.contact is not None and built.contact.ratio <= 1.0
+    traj = planner.solve(built)
+    assert check(traj, problem).ok
+    for key in ("solver_status", "iterations", "nlp_time", "constraint_violation", "objective"):
+        assert key in traj.metadata
+
+
+def test_warm_start_from_a_previous_solution_and_from_another_planner():
+    first, second = (
+        problems.sawyer_pool_shot(1.0, ball=ball)
+        for ball in ((0.75, 0.15, -0.05), (0.75, 0.17, -0.05))
+    )
+    planner = OptimalControl("time")
+    previous = planner.plan(first)
+    assert isinstance(previous.metadata["warm_start"], WarmStart)
+    cold = planner.plan(second)
+    warm = planner.plan(second, warm_start=previous)
+    assert check(warm, second).ok
+    assert warm.metadata["warm_started"] is True
+    assert warm.metadata["iterations"] <= cold.metadata["iterations"]
+    plain = Trajectory(cold.breakpoints, cold.coefficients, phases=cold.phases)  # no duals
+    seeded = planner.plan(second, warm_start=plain)
+    assert seeded.metadata["warm_started"] is False and check(seeded, second).ok
+
+
+def test_planner_pickles_without_its_compiled_solvers():
+    planner = OptimalControl("time")
+    problem = problems.PointToPoint(
+        get_robot("youbot"), get_robot("youbot").home, get_robot("youbot").home + 0.2
+    )
+    first = planner.plan(problem)
+    copy = pickle.loads(pickle.dumps(planner))
+    again = copy.plan(problem)
+    np.testing.assert_allclose(again.breakpoints, first.breakpoints, atol=1e-9)
+
+
+# ---------------------------------------------------------------------- errors and inputs
+
+
+def test_solver_failure_carries_status_and_most_violated_group():
+    problem = next(_shots(1, speed=1.0))
+    with pytest.raises(SolverError, match=r"Maximum_Iterations_Exceeded.*most violated") as info:
+        OptimalControl("time", max_iterations=2).plan(problem)
+    assert info.value.solver == "ipopt" and info.value.iterations == 2
+
+
+def test_solvers_by_name():
+    with pytest.raises(UnknownNameError, match="ipopt"):
+        OptimalControl(solver="ipotp")
+    with pytest.raises(MissingDependencyError, match="knitro"):
+        OptimalControl(solver="knitro")
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"objective": "speed"}, "objective"),
+        ({"objective": {"time": -1.0}}, "objective"),
+        ({"objective": {}}, "objective"),
+        ({"margin": 0.7}, "margin"),
+        ({"torque": "sometimes"}, "torque"),
+        ({"stretch": 0.5}, "stretch"),
+        ({"intervals": 0}, "intervals"),
+        ({"step": -0.1}, "step"),
+    ],
+)
+def test_bad_options_raise_typed_errors(kwargs, name):
+    with pytest.raises((InvalidInputError, UnknownNameError), match=name):
+        OptimalControl(**kwargs)
+
+
+def test_an_unsupported_problem_is_named():
+    with pytest.raises(InvalidInputError, match="PickAndPlace"):
+        OptimalControl().plan(problems.youbot_two_blocks())

@@ -1,0 +1,114 @@
+"""Tests of planners.transcription: the NLP rows against independent computations."""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+import pytest
+from conftest import get_robot
+
+from planners.transcription import (
+    PARAMETERS,
+    Layout,
+    Structure,
+    compile_nlp,
+    parameter_vector,
+    structure_limits,
+)
+from robots import SymbolicModel
+
+
+def _compiled(intervals=(4, 3)):
+    robot = get_robot("youbot")
+    structure = Structure(
+        robot=robot.name,
+        limits=structure_limits(robot.limits),
+        tool_frame=robot.tool_frame,
+        intervals=intervals,
+        free=(True, False),
+    )
+    return robot, compile_nlp(structure, SymbolicModel(robot))
+
+
+def _rows(compiled, w, name):
+    g = ca.Function("g", [compiled.w, compiled.p], [compiled.g])(w, parameter_vector())
+    g = np.asarray(g).reshape(-1)
+    return np.concatenate([g[a:b] for group, a, b in compiled.groups if group == name])
+
+
+def _exact_motion(compiled, rng):
+    """A decision vector whose nodes follow the exact triple integrator (numpy, not CasADi)."""
+    layout = compiled.layout
+    mid, half, vel, acc, jerk = compiled.scale
+    n = layout.n
+    w = np.zeros(layout.size)
+    h = rng.uniform(0.02, 0.08, layout.K)
+    w[: layout.K] = h
+    q, v, a = mid + 0.2 * half * rng.uniform(-1, 1, n), 0.1 * vel * rng.uniform(-1, 1, n), 0 * vel
+    for k in range(layout.K + 1):
+        w[layout.x_index(k, 0)] = (q - mid) / half
+        w[layout.x_index(k, 1)] = v / vel
+        w[layout.x_index(k, 2)] = a / acc
+        if k == layout.K:
+            break
+        u = jerk * rng.uniform(-0.5, 0.5, n)
+        w[layout.u_index(k)] = u / jerk
+        q, v, a = (
+            q + h[k] * v + h[k] ** 2 / 2 * a + h[k] ** 3 / 6 * u,
+            v + h[k] * a + h[k] ** 2 / 2 * u,
+            a + h[k] * u,
+        )
+    return w
+
+
+def test_exact_integration_satisfies_the_dynamics_rows():
+    _, compiled = _compiled()
+    w = _exact_motion(compiled, np.random.default_rng(0))
+    np.testing.assert_allclose(_rows(compiled, w, "dynamics"), 0.0, atol=1e-12)
+    w[compiled.layout.u_index(2)] += 0.1  # another jerk on interval 2 breaks its step
+    assert np.abs(_rows(compiled, w, "dynamics")).max() > 1e-3
+
+
+def test_bernstein_rows_bound_velocity_and_position_between_nodes():
+    # The rows are Bernstein coefficients: the polynomial stays within their hull.
+    _, compiled = _compiled()
+    layout = compiled.layout
+    mid, half, vel, acc, jerk = compiled.scale
+    rng = np.random.default_rng(1)
+    for _ in range(5):
+        w = _exact_motion(compiled, rng)
+        h, states, jerks = layout.split(w)
+        n = layout.n
+        speed_rows = _rows(compiled, w, "velocity between nodes").reshape(layout.K, n)
+        position_rows = _rows(compiled, w, "position between nodes").reshape(layout.K, 2, n)
+        for k in range(layout.K):
+            tau = np.linspace(0.0, h[k], 50)[:, None]
+            q0 = mid + half * states[k, :n]
+            v0, a0 = vel * states[k, n : 2 * n], acc * states[k, 2 * n :]
+            u = jerk * jerks[k]
+            v = v0 + a0 * tau + u * tau**2 / 2
+            q = q0 + v0 * tau + a0 * tau**2 / 2 + u * tau**3 / 6
+            v_hull = np.stack([v[0], vel * speed_rows[k], v[-1]])
+            assert np.all(v <= v_hull.max(axis=0) + 1e-12)
+            assert np.all(v >= v_hull.min(axis=0) - 1e-12)
+            q_hull = np.stack([q[0], *(mid + half * position_rows[k]), q[-1]])
+            assert np.all(q <= q_hull.max(axis=0) + 1e-12)
+            assert np.all(q >= q_hull.min(axis=0) - 1e-12)
+
+
+def test_layout_splits_what_it_indexes():
+    layout = Layout(3, (2, 4))
+    w = np.arange(layout.size, dtype=float)
+    h, states, jerks = layout.split(w)
+    assert h.shape == (6,) and states.shape == (7, 9) and jerks.shape == (6, 3)
+    np.testing.assert_array_equal(states[5, 3:6], w[layout.x_index(5, 1)])
+    np.testing.assert_array_equal(jerks[4], w[layout.u_index(4)])
+    np.testing.assert_array_equal(layout.first_node, [0, 2, 6])
+
+
+def test_parameter_vector_names_what_is_wrong():
+    assert parameter_vector().size == sum(size for _, size in PARAMETERS)
+    with pytest.raises(ValueError, match="speed"):
+        parameter_vector(speed=[1.0, 2.0])
+    with pytest.raises(ValueError, match="unknown"):
+        parameter_vector(velocity=1.0)
