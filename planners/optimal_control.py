@@ -303,6 +303,8 @@ class OptimalControl:
         max_iterations: Iteration cap of the solver.
         tolerance: Solver tolerance (IPOPT ``tol``) [-].
         contact_candidates: Contact configurations compared for a strike.
+        free_grid: Whether each interval of a free phase has its own length (else all
+            intervals of a phase are equal).
     """
 
     def __init__(

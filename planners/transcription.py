@@ -1,7 +1,10 @@
 r"""Multiple-shooting transcription of a multi-phase joint motion into a CasADi NLP.
 
 The motion is split into phases (e.g. approach, strike, stop), phase :math:`p` into
-:math:`N_p` equal intervals of length :math:`h_p = T_p / N_p`. The state at every node is
+:math:`N_p` intervals. Each interval length :math:`h_k` is a decision variable: fixed by its
+bounds in a phase of fixed duration, free in a free phase (so that jerk switches can fall on
+nodes; a small cost keeps neighbours alike, or with ``free_grid=False`` rows make them
+equal). The state at every node is
 :math:`x_k = (q_k, \dot q_k, \ddot q_k)`; the jerk :math:`u_k` is constant on interval
 :math:`k`, so the motion is a cubic on each interval and a step is the exact
 triple-integrator map
