@@ -50,7 +50,12 @@ from optraj.validation import as_count
 from planners.base import stamp
 from planners.lspb import LSPB
 from planners.strike import strike_line
-from planners.time_scaling import cubic_coefficients, polynomial_peaks, quintic_coefficients
+from planners.time_scaling import (
+    cubic_coefficients,
+    polynomial_peaks,
+    quintic_coefficients,
+    worst_rate_limit,
+)
 from planners.trajectory import Trajectory, TrajectorySample
 from problems import PoolStrike
 from robots import JointLimits
@@ -328,17 +333,7 @@ def _worst(
     coeffs: FloatArray, duration: float, limits: JointLimits, quantities: tuple[str, ...]
 ) -> tuple[str, int, float, float] | None:
     """The worst limit broken as (quantity, joint, needed, allowed), or None."""
-    peaks = polynomial_peaks(coeffs, duration)
-    worst: tuple[str, int, float, float] | None = None
-    worst_ratio = 1.0 + _SLACK
-    for quantity in quantities:
-        allowed = getattr(limits, quantity)
-        ratio = peaks[quantity] / allowed
-        j = int(np.argmax(ratio))
-        if ratio[j] > worst_ratio:
-            worst = (quantity, j, float(peaks[quantity][j]), float(allowed[j]))
-            worst_ratio = float(ratio[j])
-    return worst
+    return worst_rate_limit(polynomial_peaks(coeffs, duration), limits, quantities, _SLACK)
 
 
 def _check_line(

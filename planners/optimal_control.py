@@ -202,9 +202,7 @@ class OptimalControlProblem:
 
     def violations(self, w: FloatArray) -> dict[str, float]:
         """Largest bound excess of each constraint group (and ``"bounds"``) at ``w``."""
-        g = np.asarray(
-            ca.Function("g", [self.compiled.w, self.compiled.p], [self.compiled.g])(w, self.p)
-        ).reshape(-1)
+        g = np.asarray(self.compiled.constraint_values(w, self.p)).reshape(-1)
         excess = np.maximum(self.compiled.lbg - g, g - self.compiled.ubg)
         result = {"bounds": float(np.max(np.maximum(self.lbx - w, w - self.ubx), initial=0.0))}
         for name, first, end in self.compiled.groups:
@@ -471,21 +469,17 @@ class OptimalControl:
             spec.intervals = saved.structure.intervals
             torque_nodes = saved.structure.torque_nodes
         torque_margin = self.torque_margin
-        rounds: list[str] = []
-        for _ in range(ROUNDS):
+        for round_ in range(1, ROUNDS + 1):
             built = self._build(
                 problem, spec, weights, torque_nodes, strike_scale, warm_start, torque_margin
             )
             traj = self._solve(built)
-            rounds.append(f"{traj.metadata['iterations']} it")
-            layout = built.compiled.layout
-            if self.torque is True and not torque_nodes:
-                torque_nodes = tuple(range(layout.nodes))
-            more = self._torque_nodes(traj, spec, built) if self.torque is not False else None
+            ratios = self._torque_ratios(traj, spec)
+            more = [] if self.torque is False else self._torque_nodes(traj, ratios, built)
             strike_ok = self._strike_ok(traj, problem, spec)
-            if (more is None or not more) and strike_ok:
-                traj.metadata["rounds"] = len(rounds)
-                traj.metadata["torque_rows"] = len(torque_nodes)
+            if not more and strike_ok:
+                traj.metadata["rounds"] = round_
+                traj.metadata["torque_rows"] = len(built.compiled.structure.torque_nodes)
                 return traj
             if not strike_ok:  # a finer strike grid renumbers the nodes
                 strike_scale *= 2
@@ -495,9 +489,11 @@ class OptimalControl:
                     torque_margin = min(0.2, 2.0 * torque_margin + 0.01)
                 torque_nodes = tuple(sorted(set(torque_nodes) | set(more)))
             warm_start = traj
-        worst = self._torque_excess(traj, spec)
-        if worst is not None:
-            joint, _, value, limit = worst
+        if ratios is not None and ratios[1].max() > 1.0:
+            tau = ratios[2]
+            i, j = np.unravel_index(int(np.argmax(np.abs(tau) / spec.limits.effort)), tau.shape)
+            joint, value = spec.limits.names[j], float(tau[i, j])
+            limit = float(spec.limits.effort[j])
             raise InfeasibleError(
                 f"torque of {joint} stays at {value:.4g} N m (limit {limit:.4g}) after "
                 f"{ROUNDS} rounds of torque rows",
@@ -512,34 +508,35 @@ class OptimalControl:
             detail=f"after {ROUNDS} refinements of the strike grid",
         )
 
-    def _torque_excess(
-        self, traj: Trajectory, spec: _Spec
-    ) -> tuple[str, float, float, float] | None:
+    @staticmethod
+    def _torque_ratios(
+        traj: Trajectory, spec: _Spec
+    ) -> tuple[FloatArray, FloatArray, FloatArray] | None:
+        """Torques at 4 points per interval: (times, worst |tau| / effort per time, tau).
+
+        None when the effort limits are not all finite (nothing to watch).
+        """
         effort = spec.limits.effort
         if not np.all(np.isfinite(effort)):
             return None
         times = _dense_times(traj, 4)
         s = traj.sample(times)
         tau = spec.robot.inverse_dynamics(s.q, s.qd, s.qdd)
-        ratio = np.abs(tau) / effort
-        i, j = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
-        if ratio[i, j] <= 1.0:
-            return None
-        return spec.limits.names[j], float(ratio[i, j]), float(tau[i, j]), float(effort[j])
+        return times, np.max(np.abs(tau) / effort, axis=1), tau
 
     def _torque_nodes(
-        self, traj: Trajectory, spec: _Spec, built: OptimalControlProblem
+        self,
+        traj: Trajectory,
+        ratios: tuple[FloatArray, FloatArray, FloatArray] | None,
+        built: OptimalControlProblem,
     ) -> list[int]:
         """Nodes to add torque rows at: around intervals where a torque nears its limit."""
-        effort = spec.limits.effort
-        if not np.all(np.isfinite(effort)):
+        if ratios is None:
             return []
-        knots = traj.breakpoints
-        times = _dense_times(traj, 4)
-        s = traj.sample(times)
-        ratio = np.max(np.abs(spec.robot.inverse_dynamics(s.q, s.qd, s.qdd)) / effort, axis=1)
+        times, ratio, _ = ratios
         if ratio.max() <= 1.0 - 0.5 * self.torque_margin:
             return []
+        knots = traj.breakpoints
         hot = np.unique(
             np.clip(
                 np.searchsorted(knots, times[ratio > TORQUE_WATCH], "right") - 1, 0, len(knots) - 2

@@ -28,6 +28,7 @@ __all__ = [
     "cubic_coefficients",
     "polynomial_peaks",
     "quintic_coefficients",
+    "worst_rate_limit",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -149,6 +150,32 @@ def polynomial_peaks(coefficients: ArrayLike, duration: float) -> dict[str, Floa
     }
 
 
+def worst_rate_limit(
+    peaks: dict[str, FloatArray],
+    limits: JointLimits,
+    quantities: tuple[str, ...],
+    slack: float = _SLACK,
+) -> tuple[str, int, float, float] | None:
+    """The worst rate limit that peaks break, as (quantity, joint, needed, allowed), or None.
+
+    Args:
+        peaks: Peaks per quantity, as returned by :func:`polynomial_peaks`.
+        limits: The limits.
+        quantities: Quantities to compare, e.g. ``("velocity", "acceleration")``.
+        slack: Relative excess tolerated (round-off).
+    """
+    worst: tuple[str, int, float, float] | None = None
+    worst_ratio = 1.0 + slack
+    for quantity in quantities:
+        allowed = getattr(limits, quantity)
+        ratio = peaks[quantity] / allowed
+        j = int(np.argmax(ratio))
+        if ratio[j] > worst_ratio:
+            worst = (quantity, j, float(peaks[quantity][j]), float(allowed[j]))
+            worst_ratio = float(ratio[j])
+    return worst
+
+
 class _Polynomial(JointProfile):
     """Shared machinery of the cubic and quintic scalings."""
 
@@ -186,16 +213,7 @@ class _Polynomial(JointProfile):
             j = int(np.argmax(excess))
             if excess[j] > 1e-9:
                 return "position", j, float(values[j]), float(bound[j])
-        worst: tuple[str, int, float, float] | None = None
-        worst_ratio = 1.0 + slack
-        for quantity in self.limited:
-            allowed = getattr(limits, quantity)
-            ratio = peaks[quantity] / allowed
-            j = int(np.argmax(ratio))
-            if ratio[j] > worst_ratio:
-                worst = (quantity, j, float(peaks[quantity][j]), float(allowed[j]))
-                worst_ratio = float(ratio[j])
-        return worst
+        return worst_rate_limit(peaks, limits, self.limited, slack)
 
     def _shortest(
         self, q0: FloatArray, q1: FloatArray, limits: JointLimits, boundary: dict[str, FloatArray]

@@ -188,6 +188,7 @@ class CompiledNLP:
         groups: ``(name, first row, end row)`` of each constraint group in ``g``.
         scale: Physical scales ``(mid, half, velocity, acceleration, jerk)``, each (n,).
         solver: ``nlpsol`` for cold starts.
+        constraint_values: ``(w, p) -> g``, to measure a solution's violations.
         lock: Serialises calls of the solvers.
     """
 
@@ -202,6 +203,7 @@ class CompiledNLP:
     groups: tuple[tuple[str, int, int], ...]
     scale: tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
     solver: ca.Function
+    constraint_values: ca.Function
     warm_solver: ca.Function | None = None
     lock: threading.Lock = field(default_factory=threading.Lock)
 
@@ -359,6 +361,7 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
         groups=tuple(rows.groups),
         scale=(mid, half, vel, acc, jerk),
         solver=None,  # type: ignore[arg-type]
+        constraint_values=ca.Function("constraint_values", [w, p], [g]),
     )
     compiled.solver = _nlpsol(compiled, dict(structure.options))
     return compiled
