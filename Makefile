@@ -26,6 +26,7 @@ test: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/python benchmarks/time_optimal.py
 	$(BIN)/python benchmarks/strike.py
+	$(BIN)/python benchmarks/tracking.py
 
 lint: $(STAMP)
 	$(BIN)/ruff check --fix .

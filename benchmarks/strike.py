@@ -15,7 +15,6 @@ Usage: ``python benchmarks/strike.py [--shots 100] [--quick] [--out PATH]``
 
 from __future__ import annotations
 
-import argparse
 import math
 import statistics
 import sys
@@ -27,7 +26,8 @@ from typing import Any
 import numpy as np
 
 import problems
-from optraj.errors import OptrajError, UnreachableError
+from benchmarking import SEED, SPEED, pool_shots, progress, shot_arguments, write_report
+from optraj.errors import OptrajError
 from planners.checker import Report, check
 from planners.classic_strike import ClassicStrike
 from planners.optimal_control import OptimalControl
@@ -36,20 +36,8 @@ from planners.strike import TimeOptimalStrike
 
 RESULTS = Path(__file__).resolve().parent / "results"
 
-SPEED = 1.0  # cue speed [m/s]
-SEED = 7
 QUANTITIES = ("position", "velocity", "acceleration", "jerk")
 REFERENCE = "cubic strike"  # the row motion times are compared with
-
-
-def progress(done: int, total: int, label: str) -> None:
-    """A one-line progress bar on stderr."""
-    width = 30
-    filled = int(width * done / max(total, 1))
-    sys.stderr.write(f"\r{label:<28} [{'#' * filled}{'.' * (width - filled)}] {done}/{total}")
-    if done == total:
-        sys.stderr.write("\n")
-    sys.stderr.flush()
 
 
 def planners_to_compare() -> list[tuple[str, Any]]:
@@ -66,21 +54,6 @@ def planners_to_compare() -> list[tuple[str, Any]]:
         planner = OptimalControl(objective=objective)
         pairs.append((planner.name, planner))
     return pairs
-
-
-def shots(count: int, seed: int = SEED) -> tuple[list[problems.PoolStrike], int]:
-    """``count`` seeded random shots and how many draws were redrawn (ball out of reach)."""
-    rng = np.random.default_rng(seed)
-    found: list[problems.PoolStrike] = []
-    redrawn = 0
-    while len(found) < count:
-        ball = (rng.uniform(0.65, 0.85), rng.uniform(-0.05, 0.3), rng.uniform(-0.1, 0.0))
-        heading = rng.uniform(-20.0, 20.0)
-        try:
-            found.append(problems.sawyer_pool_shot(SPEED, ball, heading_deg=heading))
-        except UnreachableError:
-            redrawn += 1
-    return found, redrawn
 
 
 class Tally:
@@ -267,17 +240,9 @@ def extra_sections(shots: list[problems.PoolStrike], quick: bool = False) -> lis
 
 def main(argv: list[str] | None = None) -> int:
     """Run the benchmark and write the Markdown table."""
-    parser = argparse.ArgumentParser(description=(__doc__ or "").split("\n\n")[0])
-    parser.add_argument("--shots", type=int, default=100, help="random shots")
-    parser.add_argument("--quick", action="store_true", help="a few shots only (for CI)")
-    parser.add_argument("--out", type=Path, default=None, help="Markdown file to write")
-    args = parser.parse_args(argv)
-    if args.quick:
-        args.shots = 4
-    if args.shots < 1:
-        parser.error(f"--shots must be >= 1, got {args.shots}")
-    out = args.out if args.out is not None else RESULTS / "strike.md"
-    problems_, redrawn = shots(args.shots)
+    args = shot_arguments(argv, __doc__, 100, 4, RESULTS / "strike.md")
+    out = args.out
+    problems_, redrawn = pool_shots(args.shots)
     pairs = planners_to_compare()
     started = time.perf_counter()
     tallies = run(problems_, pairs)
@@ -305,10 +270,7 @@ def main(argv: list[str] | None = None) -> int:
         "often each finding failed.",
     ]
     lines.extend(extra_sections(problems_, quick=args.quick))
-    text = "\n".join(lines) + "\n"
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(text)
-    print(text)
+    write_report(lines, out)
     return 0
 
 

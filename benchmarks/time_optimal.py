@@ -30,20 +30,11 @@ import toppra.constraint
 import planners
 import problems
 import robots
+from benchmarking import progress
 from optraj.errors import MissingDependencyError
 from planners.lower_bound import lower_bound
 
 RESULTS = Path(__file__).resolve().parent / "results"
-
-
-def progress(done: int, total: int, label: str) -> None:
-    """A one-line progress bar on stderr."""
-    width = 30
-    filled = int(width * done / max(total, 1))
-    sys.stderr.write(f"\r{label:<28} [{'#' * filled}{'.' * (width - filled)}] {done}/{total}")
-    if done == total:
-        sys.stderr.write("\n")
-    sys.stderr.flush()
 
 
 def timed(call: Callable[[], object], repeats: int) -> float:

@@ -1,7 +1,72 @@
 """How to follow a trajectory: pseudo-inverse + PID, the OSQP differential-IK QP, simulation.
 
-Controllers arrive with a later release; the package is importable now so that the layout and
-the dependency direction are fixed from the start.
+Every controller has ``reset(state)`` and ``step(state, reference, dt) -> Command`` (a joint
+velocity command); :func:`simulate` runs one in closed loop on a simulated robot and measures
+how well it tracked.
+
+>>> import controllers, planners, problems
+>>> shot = problems.sawyer_pool_shot(speed=1.0)
+>>> traj = planners.OptimalControl("time").plan(shot)
+>>> result = controllers.simulate(shot.robot, traj, controllers.DiffIKQP(shot.robot, task="axis"))
+>>> result.metrics.strike.speed_error_max   # relative speed error along the line
 """
 
-__all__: list[str] = []
+from controllers.cartesian_pid import CartesianPID, tool_kinematics
+from controllers.controller import (
+    Command,
+    Controller,
+    Reference,
+    References,
+    State,
+    rotation_error,
+    sample_references,
+)
+from controllers.diff_ik_qp import DiffIKQP
+from controllers.joint_pd import JointPD
+from controllers.metrics import Metrics, StrikeMetrics, Violation, tracking_metrics
+from controllers.plants import (
+    DynamicPlant,
+    KinematicPlant,
+    Plant,
+    PlantState,
+    tool_force_to_joint_velocity,
+)
+from controllers.plotting import plot_tracking
+from controllers.pseudo_inverse_pid import PseudoInversePID
+from controllers.qp_terms import QP, Bounds, Constraint, Objective, combine
+from controllers.simulation import PLANTS, Impulse, Noise, Result, simulate
+
+__all__ = [
+    "PLANTS",
+    "QP",
+    "Bounds",
+    "CartesianPID",
+    "Command",
+    "Constraint",
+    "Controller",
+    "DiffIKQP",
+    "DynamicPlant",
+    "Impulse",
+    "JointPD",
+    "KinematicPlant",
+    "Metrics",
+    "Noise",
+    "Objective",
+    "Plant",
+    "PlantState",
+    "PseudoInversePID",
+    "Reference",
+    "References",
+    "Result",
+    "State",
+    "StrikeMetrics",
+    "Violation",
+    "combine",
+    "plot_tracking",
+    "rotation_error",
+    "sample_references",
+    "simulate",
+    "tool_force_to_joint_velocity",
+    "tool_kinematics",
+    "tracking_metrics",
+]

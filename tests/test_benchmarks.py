@@ -8,7 +8,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def _load(name: str):
+def _load(name: str, monkeypatch):
+    monkeypatch.syspath_prepend(str(ROOT / "benchmarks"))  # the scripts import benchmarking
     spec = importlib.util.spec_from_file_location(name, ROOT / "benchmarks" / f"{name}.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
@@ -16,7 +17,7 @@ def _load(name: str):
 
 
 def test_time_optimal_quick_run_writes_its_table(tmp_path, monkeypatch):
-    module = _load("time_optimal")
+    module = _load("time_optimal", monkeypatch)
     monkeypatch.setattr(module, "RESULTS", tmp_path)
     assert module.main(["--quick"]) == 0
     table = (tmp_path / "time_optimal.md").read_text()
@@ -33,7 +34,7 @@ def test_time_optimal_quick_run_writes_its_table(tmp_path, monkeypatch):
 
 
 def test_strike_quick_run_writes_its_table(tmp_path, monkeypatch):
-    module = _load("strike")
+    module = _load("strike", monkeypatch)
     monkeypatch.setattr(module, "RESULTS", tmp_path)
     assert module.main(["--quick"]) == 0
     text = (tmp_path / "strike.md").read_text()
@@ -70,3 +71,25 @@ def test_strike_quick_run_writes_its_table(tmp_path, monkeypatch):
     # Ruckig and the quintic keep every limit or raise: none of their trajectories fails.
     assert rows["ruckig strike"]["checker failures"] == "-"
     assert rows["quintic strike"]["checker failures"] == "-"
+
+
+def test_tracking_quick_run_writes_its_tables(tmp_path, monkeypatch):
+    module = _load("tracking", monkeypatch)
+    monkeypatch.setattr(module, "RESULTS", tmp_path)
+    assert module.main(["--quick"]) == 0
+    text = (tmp_path / "tracking.md").read_text()
+    table, timing = text.split("## Controller time per step")
+    rows = {
+        (cells[0], cells[1]): cells
+        for line in table.splitlines()
+        if line.startswith("| ") and not line.startswith(("| condition", "|---"))
+        for cells in [[c.strip() for c in line.strip("|").split("|")]]
+    }
+    labels = ["pseudo-inverse PID", "differential-IK QP", "joint PD"]
+    assert list(rows) == [(c, label) for c in module.CONDITIONS for label in labels]
+    # On the plan at the limits the pseudo-inverse asks for more than a limit, the QP never.
+    over = {label: rows[("at the limits", label)] for label in labels}
+    assert over["pseudo-inverse PID"][6] != "0/2" and float(over["pseudo-inverse PID"][7]) > 1.0
+    assert over["differential-IK QP"][6] == "0/2"
+    assert float(over["differential-IK QP"][7]) <= 1.0
+    assert "| differential-IK QP |" in timing and "| 1.00 |" in timing

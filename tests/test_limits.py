@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import robots
 from optraj.errors import InvalidInputError, JointLimitError, UnknownNameError
 from robots import JointLimits
 
@@ -114,3 +115,20 @@ def test_units_follow_joint_kind():
     limits = _limits()
     assert limits.unit("velocity", 0) == "rad/s"
     assert limits.unit("effort", 1) == "N"
+
+
+def test_scaled_limits_scale_only_the_chosen_quantities():
+    limits = robots.load("sawyer").limits
+    room = limits.scaled(0.8)
+    np.testing.assert_allclose(room.velocity, 0.8 * limits.velocity)
+    np.testing.assert_allclose(room.acceleration, 0.8 * limits.acceleration)
+    np.testing.assert_allclose(room.jerk, 0.8 * limits.jerk)
+    np.testing.assert_array_equal(room.effort, limits.effort)
+    np.testing.assert_array_equal(room.upper, limits.upper)
+    effort = limits.scaled(0.5, ("effort",))
+    np.testing.assert_allclose(effort.effort, 0.5 * limits.effort)
+    np.testing.assert_array_equal(effort.velocity, limits.velocity)
+    with pytest.raises(InvalidInputError, match=r"factor must be in \(0, 1\]"):
+        limits.scaled(1.5)
+    with pytest.raises(UnknownNameError, match="position"):
+        limits.scaled(0.5, ("position",))

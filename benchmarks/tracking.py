@@ -1,0 +1,292 @@
+"""Tracking pool strikes on Sawyer: pseudo-inverse + PID, the differential-IK QP and joint PD.
+
+For the seeded shots of the strike benchmark, each shot is planned twice with
+``OptimalControl("time")``: within 80 % of the velocity, acceleration and jerk limits (the
+"nominal" plan, leaving room for feedback) and on the full limits. Every controller then
+follows the plan in closed loop (``controllers.simulate``, dynamic plant, 1 kHz) under
+these conditions:
+
+* nominal: the 80 % plan, nothing else;
+* noisy: measurement noise 1e-4 rad and 1e-3 rad/s (seeded per shot);
+* latent: commands arrive 5 steps (5 ms) late;
+* disturbed: a 20 N push down on the cue tip for 10 ms, 0.1 s before the strike;
+* at the limits: the full-limit plan, where several joints run at their speed limit.
+
+The table gives medians over the shots of the tool and strike errors, how many runs
+commanded a joint beyond a limit, the worst command over its limit, and the controller
+time per step. A second table times one step of each controller on the same states, next
+to pink's ``solve_ik`` on the same task when pin-pink is installed.
+
+Writes ``benchmarks/results/tracking.md`` (or ``--out``) and prints it.
+
+Usage: ``python benchmarks/tracking.py [--shots 20] [--quick] [--out PATH]``
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib.util
+import math
+import statistics
+import sys
+import time
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+import controllers
+import problems
+from benchmarking import SEED, SPEED, pool_shots, progress, shot_arguments, write_report
+from controllers.simulation import Impulse, Noise, Result, simulate
+from optraj.errors import OptrajError
+from planners.optimal_control import OptimalControl
+from planners.trajectory import Trajectory
+from robots import Robot
+
+RESULTS = Path(__file__).resolve().parent / "results"
+
+PLAN_MARGIN = 0.8  # nominal plans use this fraction of the velocity/acceleration/jerk limits
+DT = 1e-3  # control period [s]
+LATENCY = 5  # steps
+PUSH = 20.0  # force on the cue tip [N], for PUSH_DURATION
+PUSH_DURATION = 0.01  # [s]
+PUSH_LEAD = 0.1  # the push starts this long before the strike [s]
+CONDITIONS = ("nominal", "noisy", "latent", "disturbed", "at the limits")
+
+
+def controllers_to_compare(robot: Robot) -> list[tuple[str, controllers.Controller]]:
+    """The (row label, controller) pairs, in row order."""
+    return [
+        ("pseudo-inverse PID", controllers.PseudoInversePID(robot)),
+        ("differential-IK QP", controllers.DiffIKQP(robot)),
+        ("joint PD", controllers.JointPD(robot)),
+    ]
+
+
+def plans(shot: problems.PoolStrike) -> dict[str, Trajectory] | None:
+    """The nominal and the full-limit plan of a shot, or None when either fails."""
+    planner = OptimalControl("time")
+    try:
+        nominal = planner.plan(
+            dataclasses.replace(shot, limits=shot.robot.limits.scaled(PLAN_MARGIN))
+        )
+        full = planner.plan(shot)
+    except OptrajError:
+        return None
+    return {"nominal": nominal, "full": full}
+
+
+def run_condition(
+    robot: Robot,
+    planned: dict[str, Trajectory],
+    controller: controllers.Controller,
+    condition: str,
+    seed: int,
+) -> Result:
+    """One closed-loop run of a controller under a condition."""
+    traj = planned["full" if condition == "at the limits" else "nominal"]
+    options: dict[str, Any] = {}
+    if condition == "noisy":
+        options["noise"] = Noise(position=1e-4, velocity=1e-3, seed=seed)
+    elif condition == "latent":
+        options["latency"] = LATENCY
+    elif condition == "disturbed":
+        start = traj.phase("strike").t_start - PUSH_LEAD
+        options["disturbance"] = Impulse(start, [0.0, 0.0, -PUSH], PUSH_DURATION)
+    return simulate(robot, traj, controller, DT, plant="dynamic", **options)
+
+
+class Tally:
+    """Metrics of one (condition, controller) row over the shots (a plain class: see strike.py)."""
+
+    def __init__(self) -> None:
+        self.position_max: list[float] = []  # [m]
+        self.line_max: list[float] = []  # [m]
+        self.speed_error: list[float] = []  # [-]
+        self.direction: list[float] = []  # [rad]
+        self.over_limit = 0  # runs commanding a joint beyond a limit
+        self.worst_command: list[float] = []  # |command| / limit, worst joint [-]
+        self.fallbacks = 0
+        self.step_time: list[float] = []  # [s]
+
+    def record(self, result: Result) -> None:
+        """One run."""
+        metrics = result.metrics
+        strike = metrics.strike
+        self.position_max.append(metrics.position_max)
+        if strike is not None:
+            self.line_max.append(strike.line_max)
+            self.speed_error.append(strike.speed_error_max)
+            self.direction.append(strike.direction_max)
+        command = metrics.violations["command"]
+        self.over_limit += command.count > 0
+        self.worst_command.append(command.worst)
+        self.fallbacks += metrics.fallbacks
+        self.step_time.append(metrics.step_time_median)
+
+
+def _median(values: list[float], scale: float = 1.0, digits: int = 3) -> str:
+    return f"{scale * statistics.median(values):.{digits}f}" if values else "-"
+
+
+def tracking_table(
+    tallies: dict[tuple[str, str], Tally], runs: int, labels: list[str]
+) -> list[str]:
+    """The Markdown table, one row per (condition, controller)."""
+    rows = [
+        "| condition | controller | tool error max [mm] | strike line error [mm] "
+        "| strike speed error [%] | strike direction error [deg] | runs over a limit "
+        "| worst command / limit | fallbacks | step time [us] |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for condition in CONDITIONS:
+        for label in labels:
+            tally = tallies[(condition, label)]
+            cells = [
+                _median(tally.position_max, 1e3),
+                _median(tally.line_max, 1e3),
+                _median(tally.speed_error, 1e2, 2),
+                _median(tally.direction, math.degrees(1.0), 2),
+                f"{tally.over_limit}/{runs}",
+                f"{max(tally.worst_command):.3f}" if tally.worst_command else "-",
+                str(tally.fallbacks),
+                _median(tally.step_time, 1e6, 1),
+            ]
+            rows.append(f"| {condition} | {label} | {' | '.join(cells)} |")
+    return rows
+
+
+def pink_stepper(robot: Robot) -> Callable[[controllers.State, controllers.Reference], Any] | None:
+    """One call of pink's ``solve_ik`` on the same task, or None without pin-pink.
+
+    The task: the tool pose (position and orientation cost 1), a posture task towards the
+    planned joints (cost 1e-3), pink's default configuration and velocity limits, OSQP.
+    """
+    if importlib.util.find_spec("pink") is None:
+        return None
+    import pink  # optional dependency
+    from pink.tasks import FrameTask, PostureTask
+
+    configuration = pink.Configuration(robot.model, robot.model.createData(), robot.home)
+    frame = FrameTask(robot.tool_frame, position_cost=1.0, orientation_cost=1.0)
+    posture = PostureTask(cost=1e-3)
+
+    def step(state: controllers.State, reference: controllers.Reference) -> Any:
+        configuration.update(state.q)
+        T = reference.T_world_tool
+        frame.set_target(pin.SE3(T[:3, :3], T[:3, 3]))
+        posture.set_target(reference.q)
+        return pink.solve_ik(configuration, [frame, posture], DT, solver="osqp", damping=1e-6)
+
+    return step
+
+
+def timing_table(robot: Robot, traj: Trajectory, repeats: int) -> list[str]:
+    """Controller time per step on the states of one run, every controller in turn."""
+    recorded = simulate(robot, traj, controllers.DiffIKQP(robot), DT, plant="dynamic")
+    states = [
+        controllers.State(float(t), q, qd)
+        for t, q, qd in zip(recorded.t[:-1], recorded.q[:-1], recorded.qd[:-1], strict=True)
+    ]
+    references = [recorded.references[k] for k in range(len(states))]
+    timed: dict[str, list[float]] = {}
+    steppers: list[tuple[str, Callable[[controllers.State, controllers.Reference], Any]]] = []
+    for label, controller in controllers_to_compare(robot):
+        controller.reset(states[0])
+        steppers.append((label, lambda s, r, c=controller: c.step(s, r, DT)))
+    pink_step = pink_stepper(robot)
+    if pink_step is not None:
+        steppers.append(("pink solve_ik (OSQP)", pink_step))
+    with warnings.catch_warnings():
+        # Through pink, qpsolvers warns on every call that it converts dense matrices to
+        # sparse ones, and osqp that a default will change.
+        warnings.filterwarnings("ignore", module="qpsolvers")
+        warnings.filterwarnings("ignore", module="osqp")
+        for _ in range(repeats):  # interleaved, so that machine noise hits every row alike
+            for label, stepper in steppers:
+                times = timed.setdefault(label, [])
+                for state, reference in zip(states, references, strict=True):
+                    started = time.perf_counter()
+                    stepper(state, reference)
+                    times.append(time.perf_counter() - started)
+    qp = statistics.median(timed["differential-IK QP"])
+    lines = [
+        "",
+        "## Controller time per step",
+        "",
+        f"Sawyer (7 joints), the {len(states)} states of one nominal run replayed {repeats} "
+        "times, each step including the tool pose and Jacobian. Goal for the QP: 20 us median.",
+        "",
+        "| controller | median [us] | p95 [us] | vs QP |",
+        "|---|---|---|---|",
+    ]
+    for label, times in timed.items():
+        median = statistics.median(times)
+        p95 = float(np.percentile(times, 95))
+        lines.append(f"| {label} | {1e6 * median:.1f} | {1e6 * p95:.1f} | {median / qp:.2f} |")
+    if pink_step is None:
+        lines += ["", "pin-pink is not installed: `pip install pin-pink` adds its row."]
+    return lines
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the benchmark and write the Markdown tables."""
+    args = shot_arguments(argv, __doc__, 20, 2, RESULTS / "tracking.md")
+    out = args.out
+    started = time.perf_counter()
+    shots, _ = pool_shots(args.shots)
+    robot = shots[0].robot
+    labels = [label for label, _ in controllers_to_compare(robot)]
+    tallies = {(c, label): Tally() for c in CONDITIONS for label in labels}
+    planned_shots: list[dict[str, Trajectory]] = []
+    unplanned = 0
+    for index, shot in enumerate(shots):
+        progress(index, len(shots), "planning")
+        planned = plans(shot)
+        if planned is None:
+            unplanned += 1
+        else:
+            planned_shots.append(planned)
+    progress(len(shots), len(shots), "planning")
+    total = len(planned_shots) * len(CONDITIONS) * len(labels)
+    done = 0
+    for index, planned in enumerate(planned_shots):
+        for condition in CONDITIONS:
+            for label, controller in controllers_to_compare(robot):
+                result = run_condition(robot, planned, controller, condition, seed=index)
+                tallies[(condition, label)].record(result)
+                done += 1
+                progress(done, total, f"shot {index + 1}: {condition}"[:28])
+    timing = timing_table(robot, planned_shots[0]["nominal"], repeats=1 if args.quick else 3)
+    elapsed = time.perf_counter() - started
+    lines = [
+        "# Tracking pool strikes on Sawyer",
+        "",
+        f"Command: `python benchmarks/tracking.py --shots {args.shots}`",
+        "",
+        f"The first {args.shots} shots of the strike benchmark (seed {SEED}, {SPEED:g} m/s); "
+        f"{len(planned_shots)} planned both ways ({unplanned} failed to plan and are left "
+        f"out). Plans: `OptimalControl('time')` within {PLAN_MARGIN:.0%} of the velocity, "
+        "acceleration and jerk limits, and on the full limits (the last condition). "
+        "Dynamic plant (rigid-body dynamics, joint velocity servo, torques saturated), "
+        f"{1 / DT:.0f} Hz. {elapsed:.0f} s in all.",
+        "",
+        *tracking_table(tallies, len(planned_shots), labels),
+        "",
+        "Medians over the runs, except the counts and the worst command. Tool error: the",
+        "largest distance of the tool from its planned position. Strike errors, inside the",
+        "strike phase: largest distance of the cue tip from the strike line, largest relative",
+        "speed error along it, largest angle between the tip's velocity and the line. Runs",
+        "over a limit: runs in which a command asked for a joint velocity beyond its limit.",
+        *timing,
+    ]
+    write_report(lines, out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

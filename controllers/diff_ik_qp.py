@@ -1,0 +1,363 @@
+r"""Differential IK as a QP on OSQP: the pseudo-inverse's replacement that keeps every limit.
+
+Each step solves, for the joint velocity command :math:`\dot q`,
+
+.. math::
+
+    \min_{\dot q} \; \tfrac12 \|J \dot q - v_{cmd}\|_W^2 + \tfrac{\lambda}{2} \|\dot q\|^2
+        + \tfrac{w}{2} \|\dot q - k (q_{ref} - q)\|^2
+
+    \text{s.t.} \quad |\dot q| \le \dot q_{max}, \quad
+    |\dot q - \dot q_{last}| \le \ddot q_{max} \Delta t, \quad
+    \text{position limits over the next step, with room to brake}
+
+with :math:`v_{cmd}` from the same Cartesian PID law as
+:class:`~controllers.pseudo_inverse_pid.PseudoInversePID`. The pieces come from
+:mod:`controllers.qp_terms` and are added up by :func:`~controllers.qp_terms.combine`. The
+sparse OSQP problem is set up once; each step only updates its numbers (``H``'s upper
+triangle, ``c`` and the bounds) and starts from the last solution.
+
+When OSQP does not return a solution within the bounds, the controller sends a safe command
+instead: the last command brought towards rest at the acceleration limit (which keeps every
+velocity, acceleration and braking bound that held before), and says so in
+:attr:`Command.status`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any, Literal
+
+import numpy as np
+import osqp
+import scipy.sparse as sparse
+from numpy.typing import ArrayLike, NDArray
+
+from controllers.cartesian_pid import CartesianPID, tool_kinematics
+from controllers.controller import Command, Controller, Reference, State
+from controllers.qp_terms import (
+    QP,
+    Constraint,
+    acceleration_bounds,
+    combine,
+    damping_objective,
+    position_bounds,
+    posture_objective,
+    task_objective,
+    task_weights,
+    velocity_bounds,
+)
+from optraj.errors import InvalidInputError
+from optraj.validation import as_array, as_positive
+from robots import JointLimits, Robot
+
+__all__ = ["DiffIKQP"]
+
+FloatArray = NDArray[np.float64]
+
+#: A solution may leave its bounds by this much (relative to the bound's scale) before it is
+#: rejected; within it, the solution is projected onto the bounds.
+BOUND_TOLERANCE = 1e-6
+#: OSQP's infinity and its "solved" status value.
+OSQP_INFINITY = 1e30
+OSQP_SOLVED = 1
+#: "Solved inaccurate": stopped at the iteration cap; used only if it passes the bound check.
+OSQP_SOLVED_INACCURATE = 2
+
+
+class DiffIKQP(Controller):
+    """Cartesian PID through a limit-aware QP instead of the pseudo-inverse.
+
+    Args:
+        robot: The robot.
+        kp, ki, kd, integral_limit: The Cartesian PID law, as in
+            :class:`~controllers.cartesian_pid.CartesianPID`.
+        task: ``"pose"`` (6-D), or ``"axis"`` (5-D: the angular velocity about the tool z
+            axis is free, for a cue whose roll does not matter).
+        weights: Task weights [linear, angular] of the twist error [-].
+        damping: Damping ``lambda`` on the joint velocity [-], > 0 keeps the QP strictly
+            convex at singularities.
+        posture_weight: Weight ``w`` of the pull towards the planned joint positions [-];
+            sets the self-motion of a redundant arm. 0 turns it off.
+        posture_gain: Rate ``k`` of that pull [1/s].
+        limits: Limits to respect; the robot's when None.
+        velocity_scale: Fraction of the velocity limits the command may use, in (0, 1].
+        position_gain: Fraction of the distance to a position limit one step may cover.
+        constraints: Extra constant rows ``lower <= G qd <= upper`` (e.g. a Cartesian speed
+            cap along a direction), added to every step's QP.
+        tolerance: OSQP's absolute and relative tolerance.
+        max_iterations: OSQP's iteration cap per step.
+
+    Raises:
+        InvalidInputError: A bad gain, weight, scale or tolerance, or limits for another
+            joint count.
+        UnknownNameError: An unknown task.
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        kp: ArrayLike = 20.0,
+        ki: ArrayLike = 5.0,
+        kd: ArrayLike = 0.0,
+        integral_limit: ArrayLike = (0.01, 0.05),
+        task: Literal["pose", "axis"] = "pose",
+        weights: tuple[float, float] = (1.0, 1.0),
+        damping: float = 1e-6,
+        posture_weight: float = 1e-3,
+        posture_gain: float = 5.0,
+        limits: JointLimits | None = None,
+        velocity_scale: float = 1.0,
+        position_gain: float = 0.95,
+        constraints: Sequence[Constraint] = (),
+        tolerance: float = 1e-7,
+        max_iterations: int = 1000,
+    ) -> None:
+        self.robot = robot
+        self.pid = CartesianPID(kp, ki, kd, integral_limit, task)
+        pair = as_array(weights, "weights", (2,))
+        if np.any(pair < 0.0) or not np.any(pair > 0.0):
+            raise InvalidInputError(
+                f"weights [linear, angular] must be >= 0 and not both 0, got {pair.tolist()}",
+                name="weights",
+            )
+        self.weights = (float(pair[0]), float(pair[1]))
+        self.damping = as_positive(damping, "damping")
+        self.posture_weight = float(as_array(posture_weight, "posture_weight", ()))
+        if self.posture_weight < 0.0:
+            raise InvalidInputError(
+                f"posture_weight must be >= 0, got {self.posture_weight:.6g}",
+                name="posture_weight",
+            )
+        self.posture_gain = as_positive(posture_gain, "posture_gain", "1/s")
+        self.limits = robot.limits if limits is None else limits
+        if self.limits.n != robot.dof:
+            raise InvalidInputError(
+                f"limits cover {self.limits.n} joints, robot {robot.name!r} has {robot.dof}",
+                name="limits",
+            )
+        self.velocity_scale = _fraction(velocity_scale, "velocity_scale")
+        self.position_gain = _fraction(position_gain, "position_gain")
+        self.constraints = tuple(constraints)
+        for constraint in self.constraints:
+            if not isinstance(constraint, Constraint):
+                raise InvalidInputError(
+                    f"constraints must be controllers.Constraint rows, got "
+                    f"{type(constraint).__name__}",
+                    name="constraints",
+                )
+        self.tolerance = as_positive(tolerance, "tolerance")
+        if isinstance(max_iterations, bool) or not isinstance(max_iterations, int):
+            raise InvalidInputError(
+                f"max_iterations must be an integer >= 1, got {max_iterations!r}",
+                name="max_iterations",
+            )
+        if max_iterations < 1:
+            raise InvalidInputError(
+                f"max_iterations must be >= 1, got {max_iterations}", name="max_iterations"
+            )
+        self.max_iterations = max_iterations
+        # Pieces that do not change from step to step, built once.
+        self._damping = damping_objective(robot.dof, self.damping)
+        self._velocity = velocity_bounds(self.limits.velocity, self.velocity_scale)
+        self._pose_weights = task_weights(*self.weights)
+        self._solver: _Workspace | None = None
+        self._last = np.zeros(robot.dof)
+        #: What the last step did: OSQP status and iterations, relaxed bounds, fallback.
+        self.diagnostics: dict[str, Any] = {}
+
+    def __getstate__(self) -> dict[str, Any]:
+        state = self.__dict__.copy()
+        state["_solver"] = None  # OSQP's workspace is rebuilt on the next step
+        return state
+
+    @property
+    def name(self) -> str:
+        """Short name for tables and plots."""
+        return "differential-IK QP"
+
+    def reset(self, state: State) -> None:
+        """Clear the integral and the warm start; the measured velocity becomes the last command."""
+        self.pid.reset()
+        self._solver = None
+        self._last = np.array(state.qd, dtype=float)
+        self.diagnostics = {}
+
+    # ------------------------------------------------------------------------------ build
+
+    def build(self, state: State, reference: Reference, dt: float) -> QP:
+        """The QP of one step, without solving it (to inspect or test the pieces).
+
+        Args:
+            state: The measured state now.
+            reference: The planned motion now.
+            dt: Control period [s].
+        """
+        limits = self.limits
+        T, J = tool_kinematics(self.robot, state.q)
+        v = self.pid.twist(T, J, state.qd, reference, dt)
+        if self.pid.task == "axis":
+            W = task_weights(*self.weights, axis=T[:3, 2])
+        else:
+            W = self._pose_weights
+        objectives = [task_objective(J, v, W), self._damping]
+        if self.posture_weight > 0.0:
+            objectives.append(
+                posture_objective(state.q, reference.q, self.posture_weight, self.posture_gain)
+            )
+        bounds = [
+            self._velocity,
+            acceleration_bounds(self._last, limits.acceleration, dt),
+            position_bounds(
+                state.q, limits.lower, limits.upper, limits.acceleration, dt, self.position_gain
+            ),
+        ]
+        return combine(objectives, bounds, self.constraints)
+
+    # ------------------------------------------------------------------------------ solve
+
+    def step(self, state: State, reference: Reference, dt: float) -> Command:
+        """Build and solve this step's QP; a safe fallback when it cannot be solved."""
+        qp = self.build(state, reference, dt)
+        command = self.solve(qp, dt)
+        self._last = command.qd
+        return command
+
+    def solve(self, qp: QP, dt: float) -> Command:
+        """Solve an assembled QP with OSQP (set up on first use, then updated in place).
+
+        Args:
+            qp: From :meth:`build`.
+            dt: Control period [s] (used by the fallback's deceleration).
+        """
+        n = qp.c.size
+        if self._solver is None or self._solver.rows != qp.A.shape[0]:
+            self._solver = _Workspace(qp, self.tolerance, self.max_iterations)
+        solved, status, iterations, x, y = self._solver.solve(qp)
+        self.diagnostics = {"status": status, "iterations": iterations, "relaxed": qp.relaxed}
+        if not solved or not np.isfinite(x).all():
+            return self._fallback(f"OSQP status {status!r}", dt)
+        if qp.A.shape[0] == n:  # bounds only: make the solution exact on its active set
+            x = _refine(qp, x, y, self.tolerance)
+        rows = qp.A @ x if qp.A.shape[0] > n else x  # every row, the bounds first
+        finite_upper = np.where(np.isfinite(qp.upper), np.abs(qp.upper), 0.0)
+        scale = np.maximum(1.0, finite_upper)
+        excess = np.maximum(qp.lower - rows, rows - qp.upper) / scale
+        if excess.max() > BOUND_TOLERANCE:
+            return self._fallback(f"solution leaves its bounds by {excess.max():.3g}", dt)
+        return Command(np.clip(x, qp.lower[:n], qp.upper[:n]))  # round-off within tolerance
+
+    def _fallback(self, reason: str, dt: float) -> Command:
+        """Bring the last command towards rest at the acceleration limit, within velocity."""
+        step = self.limits.acceleration * dt
+        qd = np.clip(0.0, self._last - step, self._last + step)
+        limit = self.velocity_scale * self.limits.velocity
+        qd = np.clip(qd, -limit, limit)
+        self.diagnostics["fallback"] = reason
+        return Command(qd, f"fallback: {reason}")
+
+
+class _Workspace:
+    """One OSQP problem with a fixed sparsity pattern, updated in place at every step.
+
+    ``H``'s upper triangle and ``A`` are stored dense (every entry structural), so that new
+    numbers always fit the pattern OSQP factorised. The updates go straight to OSQP's
+    compiled solver when its Python wrapper exposes it (the wrapper re-validates and copies
+    on every call, which costs more than the solve of a 7-joint QP); otherwise through the
+    wrapper's public ``update``/``solve``.
+    """
+
+    def __init__(self, qp: QP, tolerance: float, max_iterations: int) -> None:
+        n = qp.c.size
+        columns = np.concatenate([np.full(j + 1, j) for j in range(n)])
+        rows = np.concatenate([np.arange(j + 1) for j in range(n)])
+        self.upper = (rows, columns)  # H's upper triangle in OSQP's column order
+        a_rows, a_columns = np.nonzero(np.ones_like(qp.A))
+        order = np.lexsort((a_rows, a_columns))  # OSQP stores A column by column
+        self.a_index = (a_rows[order], a_columns[order])
+        self.rows = qp.A.shape[0]
+        P = sparse.csc_matrix((qp.H[self.upper], self.upper), shape=(n, n))
+        A = sparse.csc_matrix((qp.A[self.a_index], self.a_index), shape=qp.A.shape)
+        self.wrapper = osqp.OSQP()
+        self.wrapper.setup(
+            P,
+            qp.c,
+            A,
+            *self._finite(qp),
+            verbose=False,
+            eps_abs=tolerance,
+            eps_rel=tolerance,
+            max_iter=max_iterations,
+            check_termination=5,
+            polishing=False,  # replaced by _refine (OSQP skips polishing with no active set)
+            warm_starting=True,
+        )
+        compiled = getattr(self.wrapper, "_solver", None)
+        needed = ("update_data_vec", "update_data_mat", "solve", "info", "solution")
+        self.compiled = compiled if all(hasattr(compiled, a) for a in needed) else None
+
+    @staticmethod
+    def _finite(qp: QP) -> tuple[FloatArray, FloatArray]:
+        return np.maximum(qp.lower, -OSQP_INFINITY), np.minimum(qp.upper, OSQP_INFINITY)
+
+    def solve(self, qp: QP) -> tuple[bool, str, int, FloatArray, FloatArray]:
+        """Update the numbers, solve from the last solution: (solved, status, iterations, x, y)."""
+        px = qp.H[self.upper]
+        ax = qp.A[self.a_index] if self.rows > qp.c.size else None
+        lower, upper = self._finite(qp)
+        if self.compiled is not None:
+            self.compiled.update_data_vec(q=qp.c, l=lower, u=upper)
+            self.compiled.update_data_mat(P_x=px, P_i=None, A_x=ax, A_i=None)
+            self.compiled.solve()
+            info = self.compiled.info
+            x, y = self.compiled.solution.x, self.compiled.solution.y
+        else:
+            update: dict[str, Any] = {"Px": px, "q": qp.c, "l": lower, "u": upper}
+            if ax is not None:
+                update["Ax"] = ax
+            self.wrapper.update(**update)
+            result = self.wrapper.solve(raise_error=False)
+            info, x, y = result.info, result.x, result.y
+        solved = info.status_val in (OSQP_SOLVED, OSQP_SOLVED_INACCURATE) and x is not None
+        return solved, str(info.status), int(info.iter), np.array(x), np.array(y)
+
+
+def _refine(qp: QP, x: FloatArray, y: FloatArray, tolerance: float) -> FloatArray:
+    """Solve the QP exactly on the active set OSQP found; OSQP's ``x`` if that set is wrong.
+
+    ADMM stops at a tolerance; along weakly weighted directions (a redundant arm's self-motion,
+    held only by the damping and posture terms) its ``x`` may be off by tolerance / weight.
+    With the active bounds fixed, the rest is one small linear solve, checked afterwards: the
+    free joints must stay within their bounds and every fixed joint's multiplier must push
+    outwards, or OSQP's answer stands.
+    """
+    scale = max(1.0, float(np.abs(qp.c).max()))
+    upper = y > tolerance * scale
+    lower = y < -tolerance * scale
+    fixed = upper | lower
+    K = qp.H.copy()
+    rhs = -qp.c
+    if fixed.any():  # fixed joints: replace their rows by "x_j = bound"
+        K[fixed] = 0.0
+        K[fixed, fixed] = 1.0
+        rhs = np.where(upper, qp.upper, np.where(lower, qp.lower, rhs))
+    try:
+        refined = np.linalg.solve(K, rhs)
+    except np.linalg.LinAlgError:
+        return x
+    slack = 1e-9 * scale
+    gradient = qp.H @ refined + qp.c
+    valid = (
+        (refined >= qp.lower - slack).all()
+        and (refined <= qp.upper + slack).all()
+        and np.where(upper, gradient, 0.0).max() <= slack
+        and np.where(lower, gradient, 0.0).min() >= -slack
+    )
+    return refined if valid else x
+
+
+def _fraction(value: float, name: str) -> float:
+    number = float(as_array(value, name, ()))
+    if not 0.0 < number <= 1.0:
+        raise InvalidInputError(f"{name} must be in (0, 1], got {number:.6g}", name=name)
+    return number

@@ -1,0 +1,84 @@
+"""Pictures of closed-loop runs: tool error over time, joint speeds against their limits.
+
+Matplotlib is imported when a function here is called, not when :mod:`controllers` is
+imported, so the controllers work headless and import fast (``pip install optraj[examples]``
+brings matplotlib).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from controllers.simulation import Result
+from optraj.errors import InvalidInputError, MissingDependencyError
+from robots import JointLimits
+
+__all__ = ["plot_tracking"]
+
+
+def _pyplot() -> Any:
+    try:
+        import matplotlib.pyplot as plt
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise MissingDependencyError("matplotlib", "examples", "plotting") from exc
+    return plt
+
+
+def plot_tracking(
+    results: Result | Sequence[Result], limits: JointLimits, *, joint: int | None = None
+) -> Any:
+    """Compare runs: tool position error, strike speed error and commanded joint speed.
+
+    Args:
+        results: One run or several (e.g. one per controller) on the same plan.
+        limits: The limits to draw (``robot.limits``).
+        joint: The joint whose commanded speed is drawn; the one that comes nearest to (or
+            goes furthest beyond) its limit in any run when None.
+
+    Returns:
+        The matplotlib figure (three panels sharing the time axis).
+
+    Raises:
+        InvalidInputError: No results, or a joint index out of range.
+        MissingDependencyError: matplotlib is not installed.
+    """
+    runs = [results] if isinstance(results, Result) else list(results)
+    if not runs or not all(isinstance(r, Result) for r in runs):
+        raise InvalidInputError("results must be one or more controllers.Result", name="results")
+    n = limits.n
+    if joint is None:
+        ratios = [np.max(np.abs(r.command) / limits.velocity, axis=0) for r in runs]
+        joint = int(np.argmax(np.max(ratios, axis=0)))
+    elif not 0 <= joint < n:
+        raise InvalidInputError(f"joint must be in [0, {n - 1}], got {joint}", name="joint")
+    plt = _pyplot()
+    figure, (error_axes, speed_axes, joint_axes) = plt.subplots(
+        3, 1, sharex=True, figsize=(8.0, 8.0), constrained_layout=True
+    )
+    for run in runs:
+        m = run.metrics
+        label = f"{run.controller} (max {1e3 * m.position_max:.2f} mm)"
+        p = run.references.T_world_tool[:, :3, 3]
+        realised = run.T_world_tool[:, :3, 3]
+        error_axes.plot(run.t, 1e3 * np.linalg.norm(realised - p, axis=1), label=label)
+        planned = np.linalg.norm(run.references.twist[:, :3], axis=1)
+        actual = np.linalg.norm(np.gradient(realised, run.t, axis=0), axis=1)
+        speed_axes.plot(run.t, 100.0 * (actual - planned) / np.maximum(planned, 1e-3))
+        joint_axes.step(run.t[:-1], run.command[:, joint], where="post", label=run.controller)
+    limit = limits.velocity[joint]
+    for sign in (1.0, -1.0):
+        joint_axes.axhline(sign * limit, color="k", linestyle="--", linewidth=0.8)
+    strike = runs[0].metrics.strike
+    if strike is not None:
+        for axes in (error_axes, speed_axes, joint_axes):
+            axes.axvspan(*strike.window, color="0.9", zorder=0)
+    error_axes.set_ylabel("tool position error [mm]")
+    error_axes.legend(loc="upper left")
+    speed_axes.set_ylabel("tool speed error [%]")
+    joint_axes.set_ylabel(f"command {limits.names[joint]} [{limits.unit('velocity', joint)}]")
+    joint_axes.set_xlabel("time [s] (grey: strike window; dashed: speed limit)")
+    joint_axes.legend(loc="upper left")
+    return figure

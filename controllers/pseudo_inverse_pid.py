@@ -1,0 +1,95 @@
+r"""The seed's tracking controller: Cartesian PID through the Jacobian pseudo-inverse.
+
+.. math:: \dot q_{cmd} = J^{+} v_{cmd}, \qquad
+          J^{+} = J^T (J J^T + \lambda^2 I)^{-1}
+
+with :math:`v_{cmd}` from :class:`~controllers.cartesian_pid.CartesianPID` and
+:math:`\lambda = 0` the plain Moore-Penrose pseudo-inverse. It knows no joint limits, as in the
+seed: near a singularity or with a plan that already runs at a limit it commands whatever the
+inverse gives. :class:`~controllers.diff_ik_qp.DiffIKQP` is its limit-aware replacement.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from controllers.cartesian_pid import CartesianPID, tool_kinematics
+from controllers.controller import Command, Controller, Reference, State
+from optraj.errors import InvalidInputError
+from optraj.validation import as_array
+from robots import Robot
+
+__all__ = ["PseudoInversePID"]
+
+FloatArray = NDArray[np.float64]
+
+
+class PseudoInversePID(Controller):
+    """Cartesian PID on the pose error plus feed-forward twist, mapped by ``J^+``.
+
+    Args:
+        robot: The robot.
+        kp: Proportional gain [1/s]: scalar, [linear, angular] or per axis (6,).
+        ki: Integral gain [1/s^2], same forms.
+        kd: Derivative gain on the twist error [-], same forms.
+        integral_limit: Anti-windup clamp of the integrated error [m s, rad s].
+        damping: Damping ``lambda`` of the damped least-squares inverse [-]; 0 is the plain
+            pseudo-inverse of the seed.
+        task: ``"pose"`` (6-D) or ``"axis"`` (5-D: roll about the tool z axis is free; the
+            Jacobian's angular rows are projected on the plane normal to the axis).
+
+    Raises:
+        InvalidInputError: A negative gain or damping.
+        UnknownNameError: An unknown task.
+    """
+
+    def __init__(
+        self,
+        robot: Robot,
+        kp: ArrayLike = 20.0,
+        ki: ArrayLike = 5.0,
+        kd: ArrayLike = 0.0,
+        integral_limit: ArrayLike = (0.01, 0.05),
+        damping: float = 0.0,
+        task: Literal["pose", "axis"] = "pose",
+    ) -> None:
+        self.robot = robot
+        self.pid = CartesianPID(kp, ki, kd, integral_limit, task)
+        self.damping = float(as_array(damping, "damping", ()))
+        if self.damping < 0.0:
+            raise InvalidInputError(f"damping must be >= 0, got {self.damping:.6g}", name="damping")
+
+    @property
+    def name(self) -> str:
+        """Short name for tables and plots."""
+        return "pseudo-inverse PID" if self.damping == 0.0 else "damped pseudo-inverse PID"
+
+    def reset(self, state: State) -> None:
+        """Clear the PID integral."""
+        self.pid.reset()
+
+    def step(self, state: State, reference: Reference, dt: float) -> Command:
+        """``qd = J^+ v_cmd``; see the module docstring."""
+        T, J = tool_kinematics(self.robot, state.q)
+        v = self.pid.twist(T, J, state.qd, reference, dt)
+        if self.pid.task == "axis":
+            basis = _normal_basis(T[:3, 2])  # (2, 3): the two axes normal to the tool axis
+            J = np.vstack([J[:3], basis @ J[3:]])
+            v = np.concatenate([v[:3], basis @ v[3:]])
+        if self.damping == 0.0:
+            qd = np.linalg.pinv(J) @ v
+        else:
+            rows = J.shape[0]
+            qd = J.T @ np.linalg.solve(J @ J.T + self.damping**2 * np.eye(rows), v)
+        return Command(qd)
+
+
+def _normal_basis(axis: FloatArray) -> FloatArray:
+    """Two orthonormal vectors normal to a unit ``axis``, as rows, shape (2, 3)."""
+    helper = np.array([1.0, 0.0, 0.0]) if abs(axis[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    first = np.cross(axis, helper)
+    first /= np.linalg.norm(first)
+    return np.vstack([first, np.cross(axis, first)])

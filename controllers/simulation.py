@@ -1,0 +1,359 @@
+"""Closed-loop simulation: a controller follows a planned trajectory on a simulated robot.
+
+>>> result = controllers.simulate(robot, traj, controllers.DiffIKQP(robot), dt=1e-3)
+>>> result.metrics.position_max        # [m]
+>>> planners.check(result.command_trajectory(), robot, quantities=["velocity"])
+
+Each step: the plant's state is measured (plus seeded Gaussian noise), the controller turns it
+and the plan into a joint velocity command, the command waits ``latency`` steps, and the plant
+integrates it for ``dt`` (with a force at the tool while a disturbance lasts). The plant is
+pluggable: ``"dynamic"`` (rigid-body dynamics under a velocity servo, torques saturated),
+``"kinematic"`` (a first-order actuator lag), or any :class:`~controllers.plants.Plant`.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from collections import deque
+from dataclasses import dataclass
+from typing import TextIO
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from controllers.controller import Controller, References, State, sample_references
+from controllers.metrics import Metrics, tracking_metrics
+from controllers.plants import DynamicPlant, KinematicPlant, Plant
+from optraj.errors import InvalidInputError, SolverError, UnknownNameError
+from optraj.validation import as_array, as_count, as_positive, as_vector
+from planners.trajectory import Trajectory
+from robots import Robot
+
+__all__ = ["PLANTS", "Impulse", "Noise", "Result", "simulate"]
+
+FloatArray = NDArray[np.float64]
+
+#: Plants chosen by name.
+PLANTS: tuple[str, ...] = ("dynamic", "kinematic")
+#: Runs longer than this many steps show a progress bar when stderr is a terminal.
+PROGRESS_STEPS = 20_000
+
+
+@dataclass(frozen=True)
+class Noise:
+    """Gaussian measurement noise, seeded.
+
+    Attributes:
+        position: Standard deviation on measured joint positions [rad or m].
+        velocity: Standard deviation on measured joint velocities [rad/s or m/s].
+        seed: Seed of the generator; the same seed gives the same run.
+    """
+
+    position: float = 1e-4
+    velocity: float = 1e-3
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        for name in ("position", "velocity"):
+            value = float(as_array(getattr(self, name), name, ()))
+            if value < 0.0:
+                raise InvalidInputError(
+                    f"noise {name} standard deviation must be >= 0, got {value:.6g}", name=name
+                )
+            object.__setattr__(self, name, value)
+        as_count(self.seed, "seed")
+
+
+@dataclass(frozen=True)
+class Impulse:
+    """A force pushing on the tool frame origin for a while (a bump, a ball hitting back).
+
+    Attributes:
+        time: When it starts [s].
+        force: Force in world axes [N], shape (3,).
+        duration: How long it lasts [s]; the impulse is ``force * duration`` [N s].
+    """
+
+    time: float
+    force: ArrayLike
+    duration: float = 0.01
+
+    def __post_init__(self) -> None:
+        start = float(as_array(self.time, "time", ()))
+        if start < 0.0:
+            raise InvalidInputError(f"impulse time must be >= 0 s, got {start:.6g} s", name="time")
+        object.__setattr__(self, "time", start)
+        force = as_vector(self.force, "force", 3)
+        force.setflags(write=False)
+        object.__setattr__(self, "force", force)
+        object.__setattr__(self, "duration", as_positive(self.duration, "duration", "s"))
+
+    def force_during(self, t0: float, t1: float) -> FloatArray | None:
+        """The mean force over the step ``[t0, t1)`` [N], or None when it does not act."""
+        overlap = min(t1, self.time + self.duration) - max(t0, self.time)
+        if overlap <= 0.0:
+            return None
+        return np.asarray(self.force) * (overlap / (t1 - t0))
+
+
+@dataclass(frozen=True, eq=False)
+class Result:
+    """One closed-loop run.
+
+    Attributes:
+        robot: Name of the robot.
+        joint_names: Its joint names.
+        controller: Name of the controller.
+        plant: Name of the plant.
+        dt: Control period [s].
+        t: Sample times [s], shape (m,): the start and the end of every step.
+        q: Realised joint positions, shape (m, n).
+        qd: Realised joint velocities, shape (m, n).
+        T_world_tool: Realised tool poses, shape (m, 4, 4).
+        measured_q: Joint positions the controller saw, shape (m - 1, n).
+        measured_qd: Joint velocities the controller saw, shape (m - 1, n).
+        command: The controller's joint velocity commands, shape (m - 1, n).
+        applied: The commands the plant got (after the latency), shape (m - 1, n).
+        tau: Joint torques applied by (or needed for) the motion, shape (m - 1, n).
+        step_time: Controller wall time per step [s], shape (m - 1,).
+        fallbacks: ``(time, reason)`` of every step that sent a fallback command.
+        references: The plan at every sample time.
+        metrics: The tracking metrics.
+    """
+
+    robot: str
+    joint_names: tuple[str, ...]
+    controller: str
+    plant: str
+    dt: float
+    t: FloatArray
+    q: FloatArray
+    qd: FloatArray
+    T_world_tool: FloatArray
+    measured_q: FloatArray
+    measured_qd: FloatArray
+    command: FloatArray
+    applied: FloatArray
+    tau: FloatArray
+    step_time: FloatArray
+    fallbacks: tuple[tuple[float, str], ...]
+    references: References
+    metrics: Metrics
+
+    def __repr__(self) -> str:
+        m = self.metrics
+        return (
+            f"Result({self.controller!r} on {self.robot!r}, {self.plant} plant, "
+            f"{self.t.size - 1} steps of {self.dt:g} s: position error max "
+            f"{m.position_max * 1e3:.3g} mm, within limits {m.within_limits})"
+        )
+
+    def command_trajectory(self) -> Trajectory:
+        """The commanded motion as a Trajectory, for :func:`planners.check`.
+
+        Positions are the commands integrated from the start (piecewise linear), so the
+        trajectory's velocity is exactly the command on every step.
+        """
+        q = self.q[0] + np.concatenate(
+            [np.zeros((1, self.q.shape[1])), np.cumsum(self.command * np.diff(self.t)[:, None], 0)]
+        )
+        coefficients = np.stack([q[:-1], self.command], axis=1)
+        return Trajectory(
+            self.t - self.t[0],
+            coefficients,
+            joint_names=self.joint_names,
+            metadata={"planner": f"{self.controller} (command)"},
+        )
+
+    def trajectory(self) -> Trajectory:
+        """The realised motion as a Trajectory (cubic Hermite through every sample)."""
+        return Trajectory.from_hermite(
+            self.t - self.t[0],
+            self.q,
+            self.qd,
+            joint_names=self.joint_names,
+            metadata={"planner": f"{self.controller} (realised)"},
+        )
+
+
+def _plant(robot: Robot, plant: str | Plant) -> Plant:
+    if isinstance(plant, Plant):
+        if plant.robot.dof != robot.dof:
+            raise InvalidInputError(
+                f"the plant simulates {plant.robot.dof} joints, robot {robot.name!r} has "
+                f"{robot.dof}",
+                name="plant",
+            )
+        return plant
+    if plant == "dynamic":
+        return DynamicPlant(robot)
+    if plant == "kinematic":
+        return KinematicPlant(robot)
+    raise UnknownNameError("plant", str(plant), PLANTS)
+
+
+class _Progress:
+    """A one-line progress bar on a stream, redrawn at most every percent."""
+
+    def __init__(self, total: int, label: str, stream: TextIO) -> None:
+        self.total = total
+        self.label = label
+        self.stream = stream
+        self.shown = -1
+
+    def update(self, done: int) -> None:
+        percent = 100 * done // max(self.total, 1)
+        if percent == self.shown:
+            return
+        self.shown = percent
+        filled = percent * 30 // 100
+        bar = "#" * filled + "." * (30 - filled)
+        self.stream.write(f"\r{self.label} [{bar}] {percent:3d}%")
+        if done >= self.total:
+            self.stream.write("\n")
+        self.stream.flush()
+
+
+def simulate(
+    robot: Robot,
+    trajectory: Trajectory,
+    controller: Controller,
+    dt: float = 1e-3,
+    *,
+    plant: str | Plant = "dynamic",
+    noise: Noise | None = None,
+    latency: int = 0,
+    disturbance: Impulse | None = None,
+    settle: float = 0.0,
+    q_start: ArrayLike | None = None,
+    progress: bool | None = None,
+) -> Result:
+    """Run a controller in closed loop along a planned trajectory.
+
+    Args:
+        robot: The robot (the plan's and the controller's).
+        trajectory: The plan; sampled at every control time with its tool pose and twist.
+        controller: The controller; it is reset at the start.
+        dt: Control period [s], > 0.
+        plant: ``"dynamic"``, ``"kinematic"`` or a :class:`~controllers.plants.Plant`.
+        noise: Measurement noise; none when None.
+        latency: Steps between a command and its arrival at the plant, >= 0; the plant
+            keeps the start velocity until the first command arrives.
+        disturbance: A force on the tool for a while; none when None.
+        settle: Time to run after the plan ends, holding its final state [s], >= 0.
+        q_start: Start configuration [rad or m]; the plan's start when None (an offset
+            shows how the controller closes an initial error).
+        progress: Show a progress bar on stderr; by default only for runs of more than
+            20,000 steps with stderr a terminal.
+
+    Returns:
+        The :class:`Result`, with time series and :class:`~controllers.metrics.Metrics`.
+
+    Raises:
+        InvalidInputError: Bad dt, latency, settle or start, or a plan for another robot.
+        UnknownNameError: An unknown plant name.
+        SolverError: The controller returned a command that is not a finite (n,) vector.
+    """
+    step = as_positive(dt, "dt", "s")
+    delay = as_count(latency, "latency")
+    extra = float(as_array(settle, "settle", ()))
+    if extra < 0.0:
+        raise InvalidInputError(f"settle must be >= 0 s, got {extra:.6g} s", name="settle")
+    if not isinstance(controller, Controller):
+        raise InvalidInputError(
+            f"controller must be a controllers.Controller, got {type(controller).__name__}",
+            name="controller",
+        )
+    model = _plant(robot, plant)
+    end = trajectory.duration
+    count = max(math.ceil((end + extra) / step - 1e-9), 1)
+    t = np.arange(count + 1) * step
+    references = sample_references(robot, trajectory, np.minimum(t, end))  # held at the end
+    n = robot.dof
+    q0 = references.q[0] if q_start is None else as_vector(q_start, "q_start", n)
+    state = model.reset(q0, references.qd[0])
+    rng = np.random.default_rng(noise.seed) if noise is not None else None
+
+    q = np.empty((count + 1, n))
+    qd = np.empty((count + 1, n))
+    q[0], qd[0] = state.q, state.qd
+    measured_q = np.empty((count, n))
+    measured_qd = np.empty((count, n))
+    command = np.empty((count, n))
+    applied = np.empty((count, n))
+    tau = np.empty((count, n))
+    step_time = np.empty(count)
+    fallbacks: list[tuple[float, str]] = []
+    saturated = 0
+    queue: deque[FloatArray] = deque([state.qd.copy()] * delay)
+    show = progress if progress is not None else count > PROGRESS_STEPS and sys.stderr.isatty()
+    bar = _Progress(count, f"simulate {controller.name}", sys.stderr) if show else None
+
+    for k in range(count):
+        mq, mqd = state.q, state.qd
+        if rng is not None and noise is not None:
+            mq = mq + rng.normal(0.0, noise.position, n)
+            mqd = mqd + rng.normal(0.0, noise.velocity, n)
+        measured = State(float(t[k]), mq, mqd)
+        if k == 0:
+            controller.reset(measured)
+        started = time.perf_counter()
+        out = controller.step(measured, references[k], step)
+        step_time[k] = time.perf_counter() - started
+        qd_command = np.asarray(out.qd, dtype=float)
+        if qd_command.shape != (n,) or not np.all(np.isfinite(qd_command)):
+            raise SolverError(
+                controller.name,
+                "bad command",
+                detail=f"at t = {t[k]:.4g} s it returned {qd_command!r}; expected {n} finite "
+                "joint velocities",
+            )
+        if out.status != "ok":
+            fallbacks.append((float(t[k]), out.status))
+        queue.append(qd_command)
+        sent = queue.popleft()
+        force = disturbance.force_during(t[k], t[k + 1]) if disturbance is not None else None
+        state = model.step(sent, step, force)
+        measured_q[k], measured_qd[k] = mq, mqd
+        command[k], applied[k], tau[k] = qd_command, sent, state.tau
+        saturated += bool(state.saturated)
+        q[k + 1], qd[k + 1] = state.q, state.qd
+        if bar is not None:
+            bar.update(k + 1)
+
+    poses = robot.tool_pose(q)
+    metrics = tracking_metrics(
+        robot,
+        t,
+        references,
+        q,
+        qd,
+        command,
+        tau,
+        step_time,
+        fallbacks=len(fallbacks),
+        saturated_steps=saturated,
+        poses=poses,
+    )
+    return Result(
+        robot=robot.name,
+        joint_names=robot.joint_names,
+        controller=controller.name,
+        plant=model.name,
+        dt=step,
+        t=t,
+        q=q,
+        qd=qd,
+        T_world_tool=poses,
+        measured_q=measured_q,
+        measured_qd=measured_qd,
+        command=command,
+        applied=applied,
+        tau=tau,
+        step_time=step_time,
+        fallbacks=tuple(fallbacks),
+        references=references,
+        metrics=metrics,
+    )

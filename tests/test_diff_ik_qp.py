@@ -1,0 +1,208 @@
+from __future__ import annotations
+
+import pickle
+
+import numpy as np
+import pytest
+from conftest import get_robot
+from scipy.optimize import lsq_linear
+
+from controllers import diff_ik_qp
+from controllers.controller import Reference, State
+from controllers.diff_ik_qp import DiffIKQP
+from controllers.qp_terms import Constraint, task_weights
+from optraj.errors import InvalidInputError, UnknownNameError
+
+DT = 1e-3
+
+
+def _reference(robot, q_ref, qd_ref) -> Reference:
+    T = robot.tool_pose(q_ref)
+    twist = robot.jacobian(q_ref) @ qd_ref
+    return Reference(0.0, q_ref, qd_ref, np.zeros_like(q_ref), T, twist, "")
+
+
+def _random_case(robot, rng):
+    """A configuration, a reference near it moving at a modest speed."""
+    limits = robot.limits
+    middle = (limits.lower + limits.upper) / 2
+    half = (limits.upper - limits.lower) / 2
+    q = middle + rng.uniform(-0.6, 0.6, robot.dof) * half
+    q_ref = q + rng.normal(0.0, 0.002, robot.dof)
+    qd_ref = rng.uniform(-0.2, 0.2, robot.dof) * limits.velocity
+    return q, _reference(robot, q_ref, qd_ref)
+
+
+def _stacked_least_squares(robot, controller, q, reference):
+    """The QP's objective as one least-squares system, built from the robot directly."""
+    J = robot.jacobian(q)
+    T = robot.tool_pose(q)
+    v = controller.pid.twist(T, J, np.zeros(robot.dof), reference, DT)
+    axis = T[:3, 2] if controller.pid.task == "axis" else None
+    W = task_weights(*controller.weights, axis=axis)
+    root = np.linalg.cholesky(W + 1e-300 * np.eye(6)) if axis is None else _sqrt_psd(W)
+    rows = [root.T @ J, np.sqrt(controller.damping) * np.eye(robot.dof)]
+    rhs = [root.T @ v, np.zeros(robot.dof)]
+    if controller.posture_weight > 0:
+        rows.append(np.sqrt(controller.posture_weight) * np.eye(robot.dof))
+        rhs.append(np.sqrt(controller.posture_weight) * controller.posture_gain * (reference.q - q))
+    return np.vstack(rows), np.concatenate(rhs)
+
+
+def _sqrt_psd(W):
+    values, vectors = np.linalg.eigh(W)
+    return vectors @ np.diag(np.sqrt(np.clip(values, 0.0, None))) @ vectors.T
+
+
+@pytest.mark.parametrize(
+    ("name", "task"), [("sawyer", "pose"), ("sawyer", "axis"), ("paddle4", "pose")]
+)
+def test_unconstrained_solution_equals_least_squares(name, task):
+    robot = get_robot(name)
+    rng = np.random.default_rng(11)
+    for _ in range(20):
+        controller = DiffIKQP(robot, ki=0.0, task=task)
+        q, reference = _random_case(robot, rng)
+        A, b = _stacked_least_squares(robot, controller, q, reference)
+        expected = np.linalg.lstsq(A, b, rcond=None)[0]
+        state = State(0.0, q, expected)  # the acceleration bound is centred on this velocity
+        controller.reset(state)
+        qp = controller.build(state, reference, DT)
+        assert np.all(expected > qp.lower + 1e-6) and np.all(expected < qp.upper - 1e-6)
+        controller.reset(state)
+        command = controller.step(state, reference, DT)
+        assert command.status == "ok"
+        np.testing.assert_allclose(command.qd, expected, atol=1e-6, rtol=0)
+
+
+def test_constrained_solution_equals_bounded_least_squares():
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(12)
+    active_cases = 0
+    for _ in range(15):
+        controller = DiffIKQP(robot, ki=0.0, velocity_scale=0.05, kp=200.0)
+        q, reference = _random_case(robot, rng)
+        state = State(0.0, q, np.zeros(robot.dof))
+        controller.reset(state)
+        controller._last = np.zeros(robot.dof)
+        qp = controller.build(state, reference, DT)
+        A, b = _stacked_least_squares(robot, controller, q, reference)
+        expected = lsq_linear(A, b, bounds=(qp.lower, qp.upper), tol=1e-14, method="bvls").x
+        controller.reset(state)
+        command = controller.step(state, reference, DT)
+        np.testing.assert_allclose(command.qd, expected, atol=1e-6, rtol=0)
+        active_cases += np.any(np.isclose(expected, qp.upper) | np.isclose(expected, qp.lower))
+    assert active_cases >= 10  # the test exercises bounds that bind
+
+
+def test_commands_never_leave_the_limits_in_a_random_stress():
+    robot = get_robot("sawyer")
+    limits = robot.limits
+    rng = np.random.default_rng(13)
+    controller = DiffIKQP(robot, kp=500.0)
+    q, reference = _random_case(robot, rng)
+    controller.reset(State(0.0, q, np.zeros(robot.dof)))
+    last = np.zeros(robot.dof)
+    for k in range(300):
+        # Jumpy references far away: every bound gets pushed.
+        q_ref = np.clip(q + rng.normal(0.0, 0.3, robot.dof), limits.lower, limits.upper)
+        qd_ref = rng.uniform(-1.5, 1.5, robot.dof) * limits.velocity
+        reference = _reference(robot, q_ref, qd_ref)
+        command = controller.step(State(k * DT, q, last), reference, DT)
+        assert command.status == "ok", command.status
+        assert np.all(np.abs(command.qd) <= limits.velocity * (1 + 1e-12))
+        assert np.all(np.abs(command.qd - last) <= limits.acceleration * DT * (1 + 1e-9) + 1e-12)
+        q = q + command.qd * DT
+        assert np.all(q <= limits.upper + 1e-9) and np.all(q >= limits.lower - 1e-9)
+        last = command.qd
+
+
+def test_extra_constraint_rows_hold():
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(14)
+    q, reference = _random_case(robot, rng)
+    J = robot.jacobian(q)
+    cap = Constraint(J[:3][[0]], np.array([-0.003]), np.array([0.003]))  # tool x: 3 mm/s
+    controller = DiffIKQP(robot, constraints=[cap], kp=200.0)
+    state = State(0.0, q, np.zeros(robot.dof))
+    controller.reset(state)
+    free = DiffIKQP(robot, kp=200.0)
+    free.reset(state)
+    unconstrained = free.step(state, reference, DT).qd
+    command = controller.step(state, reference, DT)
+    assert command.status == "ok"
+    assert abs(J[0] @ unconstrained) > 0.005  # the cap binds
+    assert abs(J[0] @ command.qd) <= 0.003 + 1e-6
+
+
+def test_failure_falls_back_to_braking_within_limits(monkeypatch):
+    robot = get_robot("sawyer")
+    limits = robot.limits
+    q = robot.home
+    last = 0.9 * limits.velocity
+    controller = DiffIKQP(robot)
+    state = State(0.0, q, last)
+    controller.reset(state)
+
+    def fail(self, qp):
+        return False, "maximum iterations reached", 7, np.full(qp.c.size, np.nan), np.zeros(1)
+
+    monkeypatch.setattr(diff_ik_qp._Workspace, "solve", fail)
+    command = controller.step(state, _reference(robot, q, np.zeros(robot.dof)), DT)
+    assert command.fallback
+    assert "maximum iterations reached" in command.status
+    np.testing.assert_allclose(command.qd, last - limits.acceleration * DT)
+    assert np.all(np.abs(command.qd) <= limits.velocity)
+
+
+def test_public_wrapper_path_gives_the_same_commands():
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(15)
+    fast, slow = DiffIKQP(robot), DiffIKQP(robot)
+    q, reference = _random_case(robot, rng)
+    state = State(0.0, q, np.zeros(robot.dof))
+    fast.reset(state)
+    slow.reset(state)
+    for k in range(20):
+        a = fast.step(state, reference, DT)
+        b = slow.step(state, reference, DT)
+        if k == 0:
+            slow._solver.compiled = None  # from now on through osqp's public update/solve
+        np.testing.assert_allclose(a.qd, b.qd, atol=1e-6)
+        state = State(k * DT, q + a.qd * DT, a.qd)
+        q = state.q
+
+
+def test_pickled_controller_continues_with_the_same_commands():
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(16)
+    controller = DiffIKQP(robot)
+    q, reference = _random_case(robot, rng)
+    state = State(0.0, q, np.zeros(robot.dof))
+    controller.reset(state)
+    for _ in range(5):
+        controller.step(state, reference, DT)
+    clone = pickle.loads(pickle.dumps(controller))
+    a = controller.step(state, reference, DT)
+    b = clone.step(state, reference, DT)
+    np.testing.assert_allclose(a.qd, b.qd, atol=1e-6)
+
+
+def test_bad_settings_are_refused():
+    robot = get_robot("sawyer")
+    with pytest.raises(InvalidInputError, match="weights"):
+        DiffIKQP(robot, weights=(-1.0, 1.0))
+    with pytest.raises(InvalidInputError, match=r"velocity_scale must be in \(0, 1\]"):
+        DiffIKQP(robot, velocity_scale=1.5)
+    with pytest.raises(InvalidInputError, match="posture_weight"):
+        DiffIKQP(robot, posture_weight=-1.0)
+    with pytest.raises(InvalidInputError, match="damping"):
+        DiffIKQP(robot, damping=0.0)
+    with pytest.raises(InvalidInputError, match="max_iterations"):
+        DiffIKQP(robot, max_iterations=0)
+    with pytest.raises(InvalidInputError, match="limits cover 4 joints"):
+        DiffIKQP(robot, limits=get_robot("paddle4").limits)
+    with pytest.raises(InvalidInputError, match="Constraint rows"):
+        DiffIKQP(robot, constraints=[(np.ones((1, 7)), 0.0, 1.0)])
+    with pytest.raises(UnknownNameError, match="task"):
+        DiffIKQP(robot, task="position")

@@ -1,0 +1,199 @@
+from __future__ import annotations
+
+import pickle
+
+import numpy as np
+import pytest
+from conftest import get_robot
+from scipy.spatial.transform import Rotation
+
+from controllers.controller import Command, Reference, State
+from controllers.pseudo_inverse_pid import PseudoInversePID
+from optraj.errors import InvalidInputError, UnknownNameError
+
+DT = 1e-3
+
+
+def _inner_configurations(robot, count, rng):
+    """Configurations in the middle 60 % of each joint range (away from the extremes)."""
+    limits = robot.limits
+    middle = (limits.lower + limits.upper) / 2
+    half = (limits.upper - limits.lower) / 2
+    return middle + rng.uniform(-0.6, 0.6, (count, robot.dof)) * half
+
+
+def _reference(T_desired, twist, n):
+    zeros = np.zeros(n)
+    return Reference(0.0, zeros, zeros, zeros, T_desired, np.asarray(twist, dtype=float), "")
+
+
+def _state(q):
+    return State(0.0, q, np.zeros_like(q))
+
+
+@pytest.mark.parametrize("name", ["sawyer", "paddle4"])
+def test_step_is_minimum_norm_least_squares_of_twist(name):
+    robot = get_robot(name)
+    rng = np.random.default_rng(31)
+    controller = PseudoInversePID(robot, kp=20.0, ki=0.0, kd=0.0)
+    for q in _inner_configurations(robot, 10, rng):
+        twist = rng.normal(size=6)
+        reference = _reference(robot.tool_pose(q), twist, robot.dof)
+        command = controller.step(_state(q), reference, DT)
+        assert isinstance(command, Command)
+        assert command.status == "ok"
+        assert not command.fallback
+        expected = np.linalg.lstsq(robot.jacobian(q), twist, rcond=None)[0]
+        np.testing.assert_allclose(command.qd, expected, rtol=1e-9, atol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["sawyer", "paddle4"])
+def test_step_includes_proportional_term(name):
+    robot = get_robot(name)
+    rng = np.random.default_rng(32)
+    controller = PseudoInversePID(robot, kp=(4.0, 9.0), ki=0.0, kd=0.0)
+    for q in _inner_configurations(robot, 5, rng):
+        T = robot.tool_pose(q)
+        offset = rng.uniform(-0.01, 0.01, 3)
+        turn = rng.uniform(-0.05, 0.05, 3)
+        T_desired = T.copy()
+        T_desired[:3, 3] += offset
+        T_desired[:3, :3] = Rotation.from_rotvec(turn).as_matrix() @ T[:3, :3]
+        twist = rng.normal(size=6)
+        command = controller.step(_state(q), _reference(T_desired, twist, robot.dof), DT)
+        v = twist + np.concatenate([4.0 * offset, 9.0 * turn])
+        expected = np.linalg.lstsq(robot.jacobian(q), v, rcond=None)[0]
+        np.testing.assert_allclose(command.qd, expected, rtol=1e-9, atol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["sawyer", "paddle4"])
+def test_damped_step_equals_svd_formula(name):
+    robot = get_robot(name)
+    rng = np.random.default_rng(33)
+    damping = 0.05
+    controller = PseudoInversePID(robot, ki=0.0, damping=damping)
+    for q in [*_inner_configurations(robot, 6, rng), robot.home]:
+        twist = rng.normal(size=6)
+        command = controller.step(_state(q), _reference(robot.tool_pose(q), twist, robot.dof), DT)
+        U, s, Vt = np.linalg.svd(robot.jacobian(q), full_matrices=False)
+        expected = Vt.T @ ((s / (s**2 + damping**2)) * (U.T @ twist))
+        np.testing.assert_allclose(command.qd, expected, rtol=1e-9, atol=1e-10)
+        # Damping shrinks the command compared with the plain pseudo-inverse.
+        plain = np.linalg.lstsq(robot.jacobian(q), twist, rcond=None)[0]
+        assert np.linalg.norm(command.qd) < np.linalg.norm(plain)
+
+
+def test_axis_task_reproduces_twist_except_about_tool_axis():
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(34)
+    controller = PseudoInversePID(robot, ki=0.0, task="axis")
+    for q in _inner_configurations(robot, 10, rng):
+        T = robot.tool_pose(q)
+        z = T[:3, 2]
+        twist = rng.normal(size=6)
+        command = controller.step(_state(q), _reference(T, twist, robot.dof), DT)
+        achieved = robot.jacobian(q) @ command.qd
+        np.testing.assert_allclose(achieved[:3], twist[:3], rtol=0, atol=1e-9)
+        np.testing.assert_allclose(
+            achieved[3:] - (achieved[3:] @ z) * z, twist[3:] - (twist[3:] @ z) * z, atol=1e-9
+        )
+        # Freeing the roll gives a smaller joint velocity than the full 6-D task.
+        full = np.linalg.lstsq(robot.jacobian(q), twist, rcond=None)[0]
+        assert np.linalg.norm(command.qd) <= np.linalg.norm(full) + 1e-12
+
+
+def test_axis_task_is_minimum_norm_solution_of_five_rows():
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(35)
+    controller = PseudoInversePID(robot, ki=0.0, task="axis")
+    for q in _inner_configurations(robot, 5, rng):
+        T = robot.tool_pose(q)
+        twist = rng.normal(size=6)
+        command = controller.step(_state(q), _reference(T, twist, robot.dof), DT)
+        # Independent basis of the plane normal to z: the tool x and y axes.
+        basis = T[:3, :2].T
+        J = robot.jacobian(q)
+        A = np.vstack([J[:3], basis @ J[3:]])
+        b = np.concatenate([twist[:3], basis @ twist[3:]])
+        expected = np.linalg.lstsq(A, b, rcond=None)[0]
+        np.testing.assert_allclose(command.qd, expected, rtol=1e-9, atol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["sawyer", "paddle4"])
+def test_proportional_step_reduces_pose_error(name):
+    robot = get_robot(name)
+    rng = np.random.default_rng(36)
+    kp, dt = 20.0, 1e-3
+    controller = PseudoInversePID(robot, kp=kp, ki=0.0)
+    for q in _inner_configurations(robot, 5, rng):
+        q_ref = q + rng.normal(0.0, 1e-3, robot.dof)
+        T_ref = robot.tool_pose(q_ref)
+        reference = _reference(T_ref, np.zeros(6), robot.dof)
+
+        def pose_error(qk, T_ref=T_ref):
+            T = robot.tool_pose(qk)
+            turn = Rotation.from_matrix(T_ref[:3, :3] @ T[:3, :3].T).as_rotvec()
+            return np.concatenate([T_ref[:3, 3] - T[:3, 3], turn])
+
+        before = np.linalg.norm(pose_error(q))
+        qd = controller.step(_state(q), reference, dt).qd
+        after = np.linalg.norm(pose_error(q + qd * dt))
+        assert after < before
+        if robot.dof >= 6:  # J J^+ = I: the error shrinks by (1 - kp dt) to first order
+            assert after / before == pytest.approx(1.0 - kp * dt, abs=2e-3)
+
+
+def test_reset_clears_integral():
+    robot = get_robot("sawyer")
+    q = robot.home
+    T_ref = robot.tool_pose(q)
+    T_ref[:3, 3] += [0.002, 0.0, -0.001]
+    reference = _reference(T_ref, np.zeros(6), robot.dof)
+    controller = PseudoInversePID(robot, kp=1.0, ki=5.0)
+    first = controller.step(_state(q), reference, 0.01).qd
+    assert np.any(controller.pid.integral != 0.0)
+    np.testing.assert_allclose(controller.pid.integral[:3], [2e-5, 0.0, -1e-5], atol=1e-15)
+    second = controller.step(_state(q), reference, 0.01).qd
+    assert not np.allclose(first, second, rtol=0, atol=1e-12)  # the integral acts
+    controller.reset(_state(q))
+    np.testing.assert_array_equal(controller.pid.integral, np.zeros(6))
+    np.testing.assert_allclose(
+        controller.step(_state(q), reference, 0.01).qd, first, rtol=0, atol=1e-15
+    )
+
+
+def test_controller_pickles_with_its_integral():
+    robot = get_robot("paddle4")
+    controller = PseudoInversePID(robot, ki=2.0, damping=0.01)
+    T_ref = robot.tool_pose(robot.home)
+    T_ref[:3, 3] += 0.003
+    reference = _reference(T_ref, np.zeros(6), robot.dof)
+    controller.step(_state(robot.home), reference, 0.01)
+    clone = pickle.loads(pickle.dumps(controller))
+    np.testing.assert_array_equal(clone.pid.integral, controller.pid.integral)
+    np.testing.assert_allclose(
+        clone.step(_state(robot.home), reference, 0.01).qd,
+        controller.step(_state(robot.home), reference, 0.01).qd,
+        rtol=0,
+        atol=1e-15,
+    )
+
+
+def test_name_depends_on_damping():
+    robot = get_robot("paddle4")
+    assert PseudoInversePID(robot).name == "pseudo-inverse PID"
+    assert PseudoInversePID(robot, damping=0.1).name == "damped pseudo-inverse PID"
+
+
+def test_bad_arguments_raise():
+    robot = get_robot("paddle4")
+    with pytest.raises(InvalidInputError, match=r"damping must be >= 0, got -0.1"):
+        PseudoInversePID(robot, damping=-0.1)
+    with pytest.raises(InvalidInputError, match=r"damping must be finite"):
+        PseudoInversePID(robot, damping=float("nan"))
+    with pytest.raises(InvalidInputError, match=r"damping must have shape \(\)"):
+        PseudoInversePID(robot, damping=[0.1, 0.2])  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match=r"kp must be >= 0"):
+        PseudoInversePID(robot, kp=-1.0)
+    with pytest.raises(UnknownNameError, match=r"unknown task 'roll'"):
+        PseudoInversePID(robot, task="roll")  # type: ignore[arg-type]

@@ -1,0 +1,126 @@
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from controllers.qp_terms import (
+    Bounds,
+    Constraint,
+    Objective,
+    acceleration_bounds,
+    combine,
+    damping_objective,
+    position_bounds,
+    posture_objective,
+    task_objective,
+    task_weights,
+    velocity_bounds,
+)
+from optraj.errors import InvalidInputError
+
+
+def _value(objective: Objective, x: np.ndarray) -> float:
+    return 0.5 * x @ objective.H @ x + objective.c @ x
+
+
+def test_task_objective_is_the_weighted_squared_error_up_to_a_constant():
+    rng = np.random.default_rng(1)
+    J = rng.normal(size=(6, 7))
+    v = rng.normal(size=6)
+    W = task_weights(2.0, 0.5)
+    objective = task_objective(J, v, W)
+    constant = 0.5 * v @ W @ v
+    for _ in range(5):
+        x = rng.normal(size=7)
+        r = J @ x - v
+        np.testing.assert_allclose(_value(objective, x) + constant, 0.5 * r @ W @ r, rtol=1e-12)
+
+
+def test_axis_weights_ignore_rotation_about_the_axis():
+    axis = np.array([0.0, 0.6, 0.8])
+    W = task_weights(1.0, 3.0, axis=axis)
+    np.testing.assert_allclose(W[3:, 3:] @ axis, 0.0, atol=1e-15)
+    other = np.cross(axis, [1.0, 0.0, 0.0])
+    np.testing.assert_allclose(W[3:, 3:] @ other, 3.0 * other, rtol=1e-12)
+    np.testing.assert_allclose(W[:3, :3], np.eye(3))
+
+
+def test_damping_and_posture_objectives():
+    rng = np.random.default_rng(2)
+    x = rng.normal(size=4)
+    np.testing.assert_allclose(_value(damping_objective(4, 0.3), x), 0.15 * x @ x)
+    q, q_posture = rng.normal(size=4), rng.normal(size=4)
+    posture = posture_objective(q, q_posture, weight=0.2, gain=5.0)
+    target = 5.0 * (q_posture - q)
+    expected = 0.1 * np.sum((x - target) ** 2) - 0.1 * target @ target
+    np.testing.assert_allclose(_value(posture, x), expected, rtol=1e-12)
+
+
+def test_velocity_and_acceleration_bounds():
+    box = velocity_bounds(np.array([1.0, 2.0]), scale=0.5)
+    np.testing.assert_allclose(box.lower, [-0.5, -1.0])
+    np.testing.assert_allclose(box.upper, [0.5, 1.0])
+    box = acceleration_bounds(np.array([0.2, -0.1]), np.array([10.0, 5.0]), dt=0.01)
+    np.testing.assert_allclose(box.lower, [0.1, -0.15])
+    np.testing.assert_allclose(box.upper, [0.3, -0.05])
+
+
+def test_position_bounds_leave_room_to_brake_and_push_back_from_beyond():
+    lower, upper = np.array([-1.0, -1.0, -1.0]), np.array([1.0, 1.0, 1.0])
+    acceleration = np.full(3, 2.0)
+    q = np.array([0.0, 0.99, 1.01])  # far, close to, beyond the upper limit
+    box = position_bounds(q, lower, upper, acceleration, dt=0.001, gain=0.95)
+    # Far from the limits: the braking bound sqrt(2 a d) is the smaller one.
+    np.testing.assert_allclose(box.upper[0], np.sqrt(2 * 2.0 * 1.0))
+    np.testing.assert_allclose(box.lower[0], -np.sqrt(2 * 2.0 * 1.0))
+    np.testing.assert_allclose(box.upper[1], min(0.95 * 0.01 / 0.001, np.sqrt(2 * 2.0 * 0.01)))
+    assert box.upper[2] < 0.0  # beyond: must move back
+    np.testing.assert_allclose(box.upper[2], 0.95 * -0.01 / 0.001)
+    # A joint moving at the braking bound, braking at the limit, stops exactly at the limit.
+    v = box.upper[0]
+    np.testing.assert_allclose(v**2 / (2 * 2.0), upper[0] - q[0])
+
+
+def test_combine_adds_objectives_and_stacks_constraint_rows():
+    rng = np.random.default_rng(3)
+    a = Objective(np.eye(3), rng.normal(size=3))
+    b = Objective(2 * np.eye(3), rng.normal(size=3))
+    G = rng.normal(size=(2, 3))
+    qp = combine([a, b], [velocity_bounds(np.ones(3))], [Constraint(G, -np.ones(2), np.ones(2))])
+    np.testing.assert_allclose(qp.H, 3 * np.eye(3))
+    np.testing.assert_allclose(qp.c, a.c + b.c)
+    np.testing.assert_allclose(qp.A, np.vstack([np.eye(3), G]))
+    np.testing.assert_allclose(qp.lower, [-1, -1, -1, -1, -1])
+    assert qp.relaxed == ()
+
+
+def test_combine_intersects_bounds():
+    objective = damping_objective(2, 1.0)
+    first = Bounds(np.array([-1.0, -1.0]), np.array([1.0, 1.0]), "velocity")
+    second = Bounds(np.array([-0.5, 0.2]), np.array([2.0, 0.4]), "acceleration")
+    qp = combine([objective], [first, second])
+    np.testing.assert_allclose(qp.lower, [-0.5, 0.2])
+    np.testing.assert_allclose(qp.upper, [1.0, 0.4])
+
+
+def test_combine_relaxes_a_conflicting_lower_priority_bound_to_the_nearest_value():
+    objective = damping_objective(2, 1.0)
+    first = Bounds(np.array([0.5, -1.0]), np.array([0.8, -0.6]), "acceleration")
+    # Joint 0 wants to go below 0.2, joint 1 above -0.3: both out of the first interval.
+    second = Bounds(np.array([-1.0, -0.3]), np.array([0.2, 1.0]), "position")
+    qp = combine([objective], [first, second])
+    np.testing.assert_allclose(qp.lower, [0.5, -0.6])
+    np.testing.assert_allclose(qp.upper, [0.5, -0.6])
+    assert qp.relaxed == ("position",)
+
+
+def test_combine_rejects_bad_pieces():
+    with pytest.raises(InvalidInputError, match="at least one objective"):
+        combine([])
+    with pytest.raises(InvalidInputError, match="objective shapes"):
+        combine([damping_objective(2, 1.0), damping_objective(3, 1.0)])
+    bad = Bounds(np.array([1.0, 0.0]), np.array([0.0, 1.0]), "velocity")
+    with pytest.raises(InvalidInputError, match="velocity bounds of joint 0"):
+        combine([damping_objective(2, 1.0)], [bad])
+    with pytest.raises(InvalidInputError, match=r"shape \(m, 2\)"):
+        combine([damping_objective(2, 1.0)], [], [Constraint(np.ones((1, 3)), [0.0], [1.0])])

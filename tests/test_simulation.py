@@ -1,0 +1,199 @@
+from __future__ import annotations
+
+import dataclasses
+import io
+import sys
+
+import numpy as np
+import pytest
+
+import controllers
+import planners
+import problems
+import robots
+from controllers.plants import KinematicPlant
+from controllers.simulation import Impulse, Noise, simulate
+from optraj.errors import InvalidInputError, UnknownNameError
+
+
+@pytest.fixture(scope="module")
+def shot():
+    return problems.sawyer_pool_shot(speed=1.0)
+
+
+@pytest.fixture(scope="module")
+def nominal(shot):
+    """A minimum-time strike planned within 80 % of the limits: room for feedback."""
+    planned = dataclasses.replace(shot, limits=shot.robot.limits.scaled(0.8))
+    return planners.OptimalControl("time").plan(planned)
+
+
+@pytest.fixture(scope="module")
+def at_the_limits(shot):
+    """A minimum-time strike on the full limits: several joints run at their speed limit."""
+    return planners.OptimalControl("time").plan(shot)
+
+
+@pytest.mark.parametrize("plant", ["kinematic", "dynamic"])
+@pytest.mark.parametrize("make", [controllers.PseudoInversePID, controllers.DiffIKQP])
+def test_both_controllers_track_a_nominal_strike(shot, nominal, make, plant):
+    robot = shot.robot
+    result = simulate(robot, nominal, make(robot), plant=plant)
+    metrics = result.metrics
+    strike = metrics.strike
+    assert strike is not None
+    # Bounds measured on this shot (kinematic / dynamic plant) with about 50 % headroom.
+    line, speed, direction, position = {
+        "kinematic": (1.2e-3, 0.015, 1.0, 2.5e-3),
+        "dynamic": (3.0e-3, 0.03, 3.5, 8e-3),
+    }[plant]
+    assert strike.line_max < line
+    assert strike.speed_error_max < speed
+    assert strike.direction_max < np.radians(direction)
+    assert metrics.position_max < position
+    assert metrics.axis_max < np.radians(1.0)
+    assert metrics.fallbacks == 0
+    assert metrics.violations["position"].count == 0
+
+
+def test_pseudo_inverse_exceeds_the_speed_limit_where_the_qp_never_does(shot, at_the_limits):
+    robot = shot.robot
+    pid = simulate(robot, at_the_limits, controllers.PseudoInversePID(robot), plant="kinematic")
+    qp = simulate(robot, at_the_limits, controllers.DiffIKQP(robot), plant="kinematic")
+    # The metrics ...
+    assert pid.metrics.violations["command"].count > 100
+    assert pid.metrics.violations["command"].worst > 1.1
+    assert qp.metrics.violations["command"].count == 0
+    assert qp.metrics.violations["command"].worst <= 1.0 + 1e-9
+    # ... and the independent checker, on the commanded motion, agree.
+    pid_report = planners.check(pid.command_trajectory(), robot, quantities=["velocity"])
+    qp_report = planners.check(qp.command_trajectory(), robot, quantities=["velocity"])
+    assert not pid_report.passed("velocity")
+    assert qp_report.passed("velocity")
+    # The checker measures the same worst command as the metrics.
+    np.testing.assert_allclose(
+        pid_report["velocity"].value / pid_report["velocity"].limit,
+        pid.metrics.violations["command"].worst,
+        rtol=1e-9,
+    )
+
+
+def test_near_a_singularity_the_pseudo_inverse_runs_away_and_the_qp_does_not():
+    # Shot 8 of benchmarks/tracking.py, planned within 80 % of the limits: the plan keeps the
+    # smallest singular value of J above 0.12, but the pseudo-inverse leaves the self-motion
+    # of the 7-joint arm free and drifts towards a singular configuration.
+    robot = robots.load("sawyer")
+    shot = problems.sawyer_pool_shot(
+        1.0, (0.7758452508982021, 0.12994117630982982, -0.05031265646064958), -10.099403118906766
+    )
+    traj = planners.OptimalControl("time").plan(
+        dataclasses.replace(shot, limits=robot.limits.scaled(0.8))
+    )
+
+    def smallest(q):  # smallest singular value of J at each configuration
+        return np.linalg.svd(robot.jacobian(q), compute_uv=False)[..., -1]
+
+    assert smallest(traj.sample(traj.times(200)).q).min() > 0.1
+    pid = simulate(robot, traj, controllers.PseudoInversePID(robot), plant="kinematic")
+    qp = simulate(robot, traj, controllers.DiffIKQP(robot), plant="kinematic")
+    assert smallest(pid.q).min() < 0.05
+    assert pid.metrics.violations["command"].worst > 3.0
+    assert qp.metrics.violations["command"].count == 0
+    assert not planners.check(pid.command_trajectory(), robot, quantities=["velocity"]).ok
+    assert planners.check(qp.command_trajectory(), robot, quantities=["velocity"]).ok
+
+
+def test_seeded_noise_is_reproducible(shot, nominal):
+    robot = shot.robot
+    runs = [
+        simulate(
+            robot, nominal, controllers.DiffIKQP(robot), plant="kinematic", noise=Noise(seed=s)
+        )
+        for s in (3, 3, 4)
+    ]
+    np.testing.assert_array_equal(runs[0].q, runs[1].q)
+    np.testing.assert_array_equal(runs[0].command, runs[1].command)
+    assert np.max(np.abs(runs[0].q - runs[2].q)) > 1e-6
+    # The controller saw the noise, the plant state did not carry it directly.
+    seen = runs[0].measured_q - runs[0].q[:-1]
+    np.testing.assert_allclose(np.std(seen), Noise().position, rtol=0.05)
+
+
+def test_latency_delays_commands_by_whole_steps(shot, nominal):
+    robot = shot.robot
+    result = simulate(robot, nominal, controllers.JointPD(robot), plant="kinematic", latency=3)
+    np.testing.assert_array_equal(result.applied[3:], result.command[:-3])
+    np.testing.assert_array_equal(result.applied[:3], np.repeat(result.qd[:1], 3, axis=0))
+    prompt = simulate(robot, nominal, controllers.JointPD(robot), plant="kinematic")
+    assert result.metrics.position_rms > prompt.metrics.position_rms
+
+
+def test_a_push_on_the_tool_shows_in_the_errors(shot, nominal):
+    robot = shot.robot
+    push = Impulse(time=0.3, force=[0.0, 0.0, -30.0], duration=0.01)
+    calm = simulate(robot, nominal, controllers.DiffIKQP(robot), plant="dynamic")
+    pushed = simulate(
+        robot, nominal, controllers.DiffIKQP(robot), plant="dynamic", disturbance=push
+    )
+    k = np.searchsorted(pushed.t, 0.32)
+    before = np.searchsorted(pushed.t, 0.3)
+    np.testing.assert_array_equal(pushed.q[:before], calm.q[:before])
+    drop = robot.tool_position(pushed.q[k])[2] - robot.tool_position(calm.q[k])[2]
+    assert drop < -1e-4  # pushed down
+    assert pushed.metrics.position_max > calm.metrics.position_max
+
+
+def test_result_trajectories_match_the_recorded_series(shot, nominal):
+    robot = shot.robot
+    result = simulate(robot, nominal, controllers.DiffIKQP(robot), plant="kinematic", settle=0.05)
+    assert result.t[-1] >= nominal.duration + 0.05 - 1e-9
+    commanded = result.command_trajectory()
+    mid = result.t[:-1] + result.dt / 2
+    np.testing.assert_allclose(commanded.sample(mid).qd, result.command, atol=1e-12)
+    realised = result.trajectory()
+    np.testing.assert_allclose(realised.sample(result.t).q, result.q, atol=1e-12)
+    assert "differential-IK QP" in repr(result)
+
+
+def test_a_plant_instance_and_an_initial_offset(shot, nominal):
+    robot = shot.robot
+    plant = KinematicPlant(robot, time_constant=0.0)
+    start = nominal.sample(0.0).q + 0.01
+    result = simulate(robot, nominal, controllers.JointPD(robot), plant=plant, q_start=start)
+    np.testing.assert_allclose(result.q[0], start)
+    error = np.abs(result.q - result.references.q).max(axis=1)
+    assert error[0] == pytest.approx(0.01)
+    # With an ideal plant the offset shrinks by (1 - kp dt) per step (kp = 20 /s); the plan's
+    # own curvature adds about qdd dt / (2 kp) ~ 2e-4 rad on top.
+    assert error[100] == pytest.approx(0.01 * (1 - 20.0 * 1e-3) ** 100, abs=3e-4)
+
+
+def test_progress_bar_is_drawn_on_request(shot, nominal, monkeypatch):
+    stream = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", stream)
+    simulate(shot.robot, nominal, controllers.JointPD(shot.robot), plant="kinematic", progress=True)
+    text = stream.getvalue()
+    assert "100%" in text and "joint PD" in text
+
+
+def test_bad_arguments_are_refused(shot, nominal):
+    robot = shot.robot
+    pd = controllers.JointPD(robot)
+    with pytest.raises(InvalidInputError, match="dt must be > 0"):
+        simulate(robot, nominal, pd, dt=0.0)
+    with pytest.raises(InvalidInputError, match="latency"):
+        simulate(robot, nominal, pd, latency=-1)
+    with pytest.raises(InvalidInputError, match="settle"):
+        simulate(robot, nominal, pd, settle=-1.0)
+    with pytest.raises(UnknownNameError, match="plant"):
+        simulate(robot, nominal, pd, plant="mujoco")
+    with pytest.raises(InvalidInputError, match=r"controllers\.Controller"):
+        simulate(robot, nominal, object())
+    with pytest.raises(InvalidInputError, match="q_start"):
+        simulate(robot, nominal, pd, q_start=np.zeros(3))
+    with pytest.raises(InvalidInputError, match="seed"):
+        Noise(seed=-1)
+    with pytest.raises(InvalidInputError, match="standard deviation"):
+        Noise(position=-1.0)
+    with pytest.raises(InvalidInputError, match="force"):
+        Impulse(time=0.1, force=[1.0, 2.0])
