@@ -7,7 +7,7 @@ r"""The Cartesian PID law that both Cartesian controllers share: pose error to a
 
 in world axes, ``[linear [m/s]; angular [rad/s]]``. The integral is clamped per axis
 (anti-windup). For a tool whose roll about its own z axis is free (a cue), ``task="axis"``
-drops the error about that axis.
+corrects only the direction of that axis.
 
 Also here: :func:`tool_kinematics`, the tool pose and Jacobian in one Pinocchio pass.
 """
@@ -67,7 +67,8 @@ class CartesianPID:
         kd: Derivative gain on the twist error [-], same forms.
         integral_limit: Largest magnitude of each integrated error component, as
             [linear [m s], angular [rad s]] or per axis (6,).
-        task: ``"pose"`` (6-D) or ``"axis"``: the error about the tool z axis is dropped.
+        task: ``"pose"`` (6-D) or ``"axis"``: only the tool z axis is corrected, not the roll
+            about it.
 
     Raises:
         InvalidInputError: A negative or malformed gain.
@@ -105,14 +106,20 @@ class CartesianPID:
     def error(self, T_world_tool: FloatArray, reference: Reference) -> FloatArray:
         """Pose error ``[p_d - p; log(R_d R^T)]`` in world axes [m; rad], shape (6,).
 
-        With ``task="axis"`` the rotation error's component along the tool z axis is removed.
+        With ``task="axis"`` the angular part is the rotation that turns the tool z axis onto
+        the planned one about their common normal, ``(z x z_d) angle / |z x z_d|``; it does
+        not depend on either roll.
         """
         error = np.empty(6)
         error[:3] = reference.T_world_tool[:3, 3] - T_world_tool[:3, 3]
-        error[3:] = rotation_error(reference.T_world_tool[:3, :3], T_world_tool[:3, :3])
         if self.task == "axis":
-            z = T_world_tool[:3, 2]
-            error[3:] -= (z @ error[3:]) * z
+            z, z_d = T_world_tool[:3, 2], reference.T_world_tool[:3, 2]
+            normal = np.cross(z, z_d)
+            sine = float(np.linalg.norm(normal))
+            angle = float(np.arctan2(sine, z @ z_d))
+            error[3:] = normal * (angle / sine) if sine > 1e-12 else normal
+        else:
+            error[3:] = rotation_error(reference.T_world_tool[:3, :3], T_world_tool[:3, :3])
         return error
 
     def twist(

@@ -18,9 +18,10 @@ sparse OSQP problem is set up once; each step only updates its numbers (``H``'s 
 triangle, ``c`` and the bounds) and starts from the last solution.
 
 When OSQP does not return a solution within the bounds, the controller sends a safe command
-instead: the last command brought towards rest at the acceleration limit (which keeps every
-velocity, acceleration and braking bound that held before), and says so in
-:attr:`Command.status`.
+instead: the last command brought towards rest at the acceleration limit. It keeps the
+velocity and acceleration limits, and the braking room of the position bounds that held on the
+steps before stops the joints short of their position limits; extra constraint rows are not
+considered. :attr:`Command.status` says so.
 """
 
 from __future__ import annotations
@@ -48,7 +49,7 @@ from controllers.qp_terms import (
     velocity_bounds,
 )
 from optraj.errors import InvalidInputError
-from optraj.validation import as_array, as_positive
+from optraj.validation import as_array, as_count, as_positive
 from robots import JointLimits, Robot
 
 __all__ = ["DiffIKQP"]
@@ -58,11 +59,18 @@ FloatArray = NDArray[np.float64]
 #: A solution may leave its bounds by this much (relative to the bound's scale) before it is
 #: rejected; within it, the solution is projected onto the bounds.
 BOUND_TOLERANCE = 1e-6
-#: OSQP's infinity and its "solved" status value.
+#: OSQP's infinity.
 OSQP_INFINITY = 1e30
-OSQP_SOLVED = 1
-#: "Solved inaccurate": stopped at the iteration cap; used only if it passes the bound check.
-OSQP_SOLVED_INACCURATE = 2
+#: OSQP outcomes whose ``x`` is used: solved, solved inaccurately, or stopped at the iteration
+#: cap; the latter two only when the solution then passes the bound check.
+USABLE = frozenset(
+    int(status)
+    for status in (
+        osqp.SolverStatus.OSQP_SOLVED,
+        osqp.SolverStatus.OSQP_SOLVED_INACCURATE,
+        osqp.SolverStatus.OSQP_MAX_ITER_REACHED,
+    )
+)
 
 
 class DiffIKQP(Controller):
@@ -130,6 +138,10 @@ class DiffIKQP(Controller):
                 name="posture_weight",
             )
         self.posture_gain = as_positive(posture_gain, "posture_gain", "1/s")
+        if limits is not None and not isinstance(limits, JointLimits):
+            raise InvalidInputError(
+                f"limits must be a robots.JointLimits, got {type(limits).__name__}", name="limits"
+            )
         self.limits = robot.limits if limits is None else limits
         if self.limits.n != robot.dof:
             raise InvalidInputError(
@@ -138,25 +150,9 @@ class DiffIKQP(Controller):
             )
         self.velocity_scale = _fraction(velocity_scale, "velocity_scale")
         self.position_gain = _fraction(position_gain, "position_gain")
-        self.constraints = tuple(constraints)
-        for constraint in self.constraints:
-            if not isinstance(constraint, Constraint):
-                raise InvalidInputError(
-                    f"constraints must be controllers.Constraint rows, got "
-                    f"{type(constraint).__name__}",
-                    name="constraints",
-                )
+        self.constraints = tuple(_checked_rows(c, robot.dof) for c in constraints)
         self.tolerance = as_positive(tolerance, "tolerance")
-        if isinstance(max_iterations, bool) or not isinstance(max_iterations, int):
-            raise InvalidInputError(
-                f"max_iterations must be an integer >= 1, got {max_iterations!r}",
-                name="max_iterations",
-            )
-        if max_iterations < 1:
-            raise InvalidInputError(
-                f"max_iterations must be >= 1, got {max_iterations}", name="max_iterations"
-            )
-        self.max_iterations = max_iterations
+        self.max_iterations = as_count(max_iterations, "max_iterations", minimum=1)
         # Pieces that do not change from step to step, built once.
         self._damping = damping_objective(robot.dof, self.damping)
         self._velocity = velocity_bounds(self.limits.velocity, self.velocity_scale)
@@ -318,7 +314,7 @@ class _Workspace:
             self.wrapper.update(**update)
             result = self.wrapper.solve(raise_error=False)
             info, x, y = result.info, result.x, result.y
-        solved = info.status_val in (OSQP_SOLVED, OSQP_SOLVED_INACCURATE) and x is not None
+        solved = int(info.status_val) in USABLE and x is not None
         return solved, str(info.status), int(info.iter), np.array(x), np.array(y)
 
 
@@ -354,6 +350,35 @@ def _refine(qp: QP, x: FloatArray, y: FloatArray, tolerance: float) -> FloatArra
         and np.where(lower, gradient, 0.0).min() >= -slack
     )
     return refined if valid else x
+
+
+def _checked_rows(constraint: object, n: int) -> Constraint:
+    """A user's constraint rows, validated: G (m, n), finite; bounds (m,), lower <= upper."""
+    if not isinstance(constraint, Constraint):
+        raise InvalidInputError(
+            f"constraints must be controllers.Constraint rows, got {type(constraint).__name__}",
+            name="constraints",
+        )
+    G = as_array(constraint.G, "constraint G", (None, n))
+    m = G.shape[0]
+    bounds = []
+    for side, values in (("lower", constraint.lower), ("upper", constraint.upper)):
+        array = np.asarray(values, dtype=float)
+        if array.shape != (m,) or np.isnan(array).any():
+            raise InvalidInputError(
+                f"constraint {side} must be {m} numbers (+-inf for none), not NaN; got "
+                f"{np.array2string(array, precision=4)}",
+                name="constraints",
+            )
+        bounds.append(array)
+    lower, upper = bounds
+    bad = np.flatnonzero(lower > upper)
+    if bad.size:
+        i = int(bad[0])
+        raise InvalidInputError(
+            f"constraint row {i}: lower {lower[i]:.6g} > upper {upper[i]:.6g}", name="constraints"
+        )
+    return Constraint(G, lower, upper)
 
 
 def _fraction(value: float, name: str) -> float:

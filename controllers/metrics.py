@@ -33,7 +33,9 @@ class Violation:
 
     Attributes:
         quantity: ``"position"``, ``"velocity"``, ``"command"`` (the commanded velocity),
-            ``"acceleration"`` or ``"effort"``.
+            ``"acceleration"`` or ``"effort"`` (the applied torque; a plant that clips its
+            torques to the limits never goes over, it saturates: see
+            :attr:`Metrics.saturated_steps`).
         count: Samples beyond the limit.
         worst: Largest value over limit: ``|value| / limit`` for symmetric quantities (> 1 is
             a violation), for positions the distance beyond the nearer bound divided by the
@@ -108,7 +110,7 @@ class Metrics:
 
     @property
     def within_limits(self) -> bool:
-        """Whether no quantity went beyond its limit."""
+        """Whether no quantity went beyond its limit (saturated torques are not counted)."""
         return all(v.count == 0 for v in self.violations.values())
 
     def as_dict(self) -> dict[str, Any]:

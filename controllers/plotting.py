@@ -52,7 +52,7 @@ def plot_tracking(
     if joint is None:
         ratios = [np.max(np.abs(r.command) / limits.velocity, axis=0) for r in runs]
         joint = int(np.argmax(np.max(ratios, axis=0)))
-    elif not 0 <= joint < n:
+    elif isinstance(joint, bool) or not isinstance(joint, (int, np.integer)) or not 0 <= joint < n:
         raise InvalidInputError(f"joint must be in [0, {n - 1}], got {joint}", name="joint")
     plt = _pyplot()
     figure, (error_axes, speed_axes, joint_axes) = plt.subplots(

@@ -191,11 +191,13 @@ def position_bounds(
 
     .. math::
 
-        \dot q \le \min\left(k \frac{q_{max} - q}{\Delta t}, \sqrt{2 a_{max} (q_{max} - q)}
-        \right)
+        \dot q \le \min\left(k \frac{q_{max} - q}{\Delta t},\;
+        -a_{max} \Delta t + \sqrt{(a_{max} \Delta t)^2 + 2 a_{max} (q_{max} - q)}\right)
 
-    and symmetrically below. The square root is the fastest speed from which the joint can
-    still stop at the limit. A joint already beyond a limit is asked to move back.
+    and symmetrically below. The second term is the fastest speed ``u`` from which a joint
+    commanded in steps of ``dt``, first ``u`` for one step and then slowing by ``a_max dt`` per
+    step, still stops at the limit: it covers ``u^2 / (2 a_max) + u dt`` at most. A joint
+    already beyond a limit is asked to move back.
 
     Args:
         q: Joint positions [rad or m], shape (n,).
@@ -207,10 +209,11 @@ def position_bounds(
     """
     room_up = upper - q
     room_down = q - lower
-    up = np.minimum(gain * room_up / dt, np.sqrt(2.0 * acceleration * np.maximum(room_up, 0.0)))
-    down = np.minimum(
-        gain * room_down / dt, np.sqrt(2.0 * acceleration * np.maximum(room_down, 0.0))
-    )
+    step = acceleration * dt
+    brake_up = np.sqrt(step**2 + 2.0 * acceleration * np.maximum(room_up, 0.0)) - step
+    brake_down = np.sqrt(step**2 + 2.0 * acceleration * np.maximum(room_down, 0.0)) - step
+    up = np.minimum(gain * room_up / dt, brake_up)
+    down = np.minimum(gain * room_down / dt, brake_down)
     return Bounds(-down, up, "position")
 
 

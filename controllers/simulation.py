@@ -17,7 +17,7 @@ import math
 import sys
 import time
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TextIO
 
 import numpy as np
@@ -194,6 +194,19 @@ def _plant(robot: Robot, plant: str | Plant) -> Plant:
     raise UnknownNameError("plant", str(plant), PLANTS)
 
 
+def _held_at_rest(references: References, t: FloatArray, end: float) -> References:
+    """After the plan ends, the reference is its final pose at rest (for ``settle``)."""
+    after = t > end + 1e-12
+    if not after.any():
+        return references
+    moving = {}
+    for name in ("qd", "qdd", "twist"):
+        values = getattr(references, name).copy()
+        values[after] = 0.0
+        moving[name] = values
+    return replace(references, t=t.copy(), **moving)
+
+
 class _Progress:
     """A one-line progress bar on a stream, redrawn at most every percent."""
 
@@ -242,7 +255,8 @@ def simulate(
         latency: Steps between a command and its arrival at the plant, >= 0; the plant
             keeps the start velocity until the first command arrives.
         disturbance: A force on the tool for a while; none when None.
-        settle: Time to run after the plan ends, holding its final state [s], >= 0.
+        settle: Time to run after the plan ends [s], >= 0; the reference is then the plan's
+            final pose at rest.
         q_start: Start configuration [rad or m]; the plan's start when None (an offset
             shows how the controller closes an initial error).
         progress: Show a progress bar on stderr; by default only for runs of more than
@@ -252,7 +266,8 @@ def simulate(
         The :class:`Result`, with time series and :class:`~controllers.metrics.Metrics`.
 
     Raises:
-        InvalidInputError: Bad dt, latency, settle or start, or a plan for another robot.
+        InvalidInputError: Bad dt, latency, settle, start or progress, a plan that is not a
+            Trajectory, or a plan or controller for another robot.
         UnknownNameError: An unknown plant name.
         SolverError: The controller returned a command that is not a finite (n,) vector.
     """
@@ -266,11 +281,28 @@ def simulate(
             f"controller must be a controllers.Controller, got {type(controller).__name__}",
             name="controller",
         )
+    if not isinstance(trajectory, Trajectory):
+        raise InvalidInputError(
+            f"trajectory must be a planners.Trajectory, got {type(trajectory).__name__}",
+            name="trajectory",
+        )
+    own = getattr(controller, "robot", None)
+    if not isinstance(own, Robot) or own.dof != robot.dof or own.name != robot.name:
+        mine = f"{own.name!r} ({own.dof} joints)" if isinstance(own, Robot) else repr(own)
+        raise InvalidInputError(
+            f"the controller is for robot {mine}, the simulation for {robot.name!r} "
+            f"({robot.dof} joints)",
+            name="controller",
+        )
+    if progress is not None and not isinstance(progress, bool):
+        raise InvalidInputError(
+            f"progress must be True, False or None, got {progress!r}", name="progress"
+        )
     model = _plant(robot, plant)
     end = trajectory.duration
     count = max(math.ceil((end + extra) / step - 1e-9), 1)
     t = np.arange(count + 1) * step
-    references = sample_references(robot, trajectory, np.minimum(t, end))  # held at the end
+    references = _held_at_rest(sample_references(robot, trajectory, np.minimum(t, end)), t, end)
     n = robot.dof
     q0 = references.q[0] if q_start is None else as_vector(q_start, "q_start", n)
     state = model.reset(q0, references.qd[0])

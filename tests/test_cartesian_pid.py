@@ -153,18 +153,29 @@ def test_axis_task_ignores_roll_about_tool_axis():
     )
 
 
-def test_axis_task_error_is_pose_error_without_its_tool_z_component():
+def test_axis_task_error_turns_the_tool_axis_onto_the_planned_one_whatever_the_roll():
     rng = np.random.default_rng(21)
     for _ in range(50):
         T = _pose(Rotation.random(random_state=rng).as_matrix(), rng.normal(size=3))
         turn = Rotation.from_rotvec(rng.uniform(-1.0, 1.0, 3)).as_matrix()
-        reference = _reference(_pose(turn @ T[:3, :3], T[:3, 3] + rng.normal(size=3)))
+        planned = turn @ T[:3, :3]
+        reference = _reference(_pose(planned, T[:3, 3] + rng.normal(size=3)))
         full = CartesianPID(task="pose").error(T, reference)
         axis = CartesianPID(task="axis").error(T, reference)
-        z = T[:3, 2]
+        z, z_d = T[:3, 2], planned[:, 2]
         np.testing.assert_allclose(axis[:3], full[:3], rtol=0, atol=0)
-        np.testing.assert_allclose(axis[3:] @ z, 0.0, atol=1e-13)
-        np.testing.assert_allclose(axis[3:], full[3:] - (full[3:] @ z) * z, atol=1e-13)
+        np.testing.assert_allclose(axis[3:] @ z, 0.0, atol=1e-13)  # normal to the axis
+        np.testing.assert_allclose(Rotation.from_rotvec(axis[3:]).apply(z), z_d, atol=1e-12)
+        # Rolling the measured tool or the planned one about its own axis changes nothing.
+        for roll in (1.0, 2.8, 3.1):
+            spin = Rotation.from_rotvec([0.0, 0.0, roll]).as_matrix()
+            rolled = _pose(T[:3, :3] @ spin, T[:3, 3])
+            again = CartesianPID(task="axis").error(rolled, reference)
+            np.testing.assert_allclose(again, axis, atol=1e-12)
+            planned_rolled = _reference(_pose(planned @ spin, reference.T_world_tool[:3, 3]))
+            np.testing.assert_allclose(
+                CartesianPID(task="axis").error(T, planned_rolled), axis, atol=1e-12
+            )
 
 
 def test_unknown_task_raises():

@@ -206,3 +206,35 @@ def test_bad_settings_are_refused():
         DiffIKQP(robot, constraints=[(np.ones((1, 7)), 0.0, 1.0)])
     with pytest.raises(UnknownNameError, match="task"):
         DiffIKQP(robot, task="position")
+
+
+def test_a_step_cut_short_by_the_iteration_cap_is_still_used_when_it_checks_out():
+    robot = get_robot("sawyer")
+    for seed in (17, 18, 19):
+        q, reference = _random_case(robot, np.random.default_rng(seed))
+        exact = DiffIKQP(robot)
+        capped = DiffIKQP(robot, max_iterations=6)
+        state = State(0.0, q, np.zeros(robot.dof))
+        exact.reset(state)
+        capped.reset(state)
+        a = exact.step(state, reference, DT)
+        b = capped.step(state, reference, DT)
+        assert capped.diagnostics["status"] == "maximum iterations reached"
+        assert b.status == "ok"
+        np.testing.assert_allclose(b.qd, a.qd, atol=1e-6)  # the active set was right: exact
+
+
+def test_bad_constraint_rows_are_refused():
+    robot = get_robot("sawyer")
+    G = np.ones((2, 7))
+    with pytest.raises(InvalidInputError, match="constraint lower must be 2 numbers"):
+        DiffIKQP(robot, constraints=[Constraint(G, np.zeros(3), np.ones(2))])
+    with pytest.raises(InvalidInputError, match="not NaN"):
+        DiffIKQP(robot, constraints=[Constraint(G, np.array([0.0, np.nan]), np.ones(2))])
+    with pytest.raises(InvalidInputError, match=r"constraint row 1: lower 2 > upper 1"):
+        DiffIKQP(robot, constraints=[Constraint(G, np.array([0.0, 2.0]), np.ones(2))])
+    with pytest.raises(InvalidInputError, match="constraint G"):
+        DiffIKQP(robot, constraints=[Constraint(np.ones((2, 6)), np.zeros(2), np.ones(2))])
+    with pytest.raises(InvalidInputError, match=r"robots\.JointLimits"):
+        DiffIKQP(robot, limits="fast")
+    DiffIKQP(robot, max_iterations=np.int64(10))  # numpy integers are integers

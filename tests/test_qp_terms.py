@@ -68,17 +68,49 @@ def test_velocity_and_acceleration_bounds():
 def test_position_bounds_leave_room_to_brake_and_push_back_from_beyond():
     lower, upper = np.array([-1.0, -1.0, -1.0]), np.array([1.0, 1.0, 1.0])
     acceleration = np.full(3, 2.0)
+    dt = 0.001
     q = np.array([0.0, 0.99, 1.01])  # far, close to, beyond the upper limit
-    box = position_bounds(q, lower, upper, acceleration, dt=0.001, gain=0.95)
-    # Far from the limits: the braking bound sqrt(2 a d) is the smaller one.
-    np.testing.assert_allclose(box.upper[0], np.sqrt(2 * 2.0 * 1.0))
-    np.testing.assert_allclose(box.lower[0], -np.sqrt(2 * 2.0 * 1.0))
-    np.testing.assert_allclose(box.upper[1], min(0.95 * 0.01 / 0.001, np.sqrt(2 * 2.0 * 0.01)))
+    box = position_bounds(q, lower, upper, acceleration, dt=dt, gain=0.95)
+    assert box.upper[0] < np.sqrt(2 * 2.0 * 1.0)  # below the continuous-time braking speed
+    assert box.upper[1] < 0.95 * 0.01 / dt
     assert box.upper[2] < 0.0  # beyond: must move back
-    np.testing.assert_allclose(box.upper[2], 0.95 * -0.01 / 0.001)
-    # A joint moving at the braking bound, braking at the limit, stops exactly at the limit.
-    v = box.upper[0]
-    np.testing.assert_allclose(v**2 / (2 * 2.0), upper[0] - q[0])
+    np.testing.assert_allclose(box.upper[2], 0.95 * -0.01 / dt)
+    mirrored = position_bounds(-q, lower, upper, acceleration, dt=dt, gain=0.95)
+    np.testing.assert_allclose(mirrored.lower, -box.upper)  # symmetric below
+
+
+@pytest.mark.parametrize("dt", [1e-3, 4e-3, 2e-2])
+def test_braking_from_the_position_bound_stops_at_the_limit(dt):
+    # A joint commanded step by step: as fast as the bounds allow towards the upper limit,
+    # never changing speed by more than a dt per step. It must stop without crossing it.
+    rng = np.random.default_rng(int(dt * 1e4))
+    for _ in range(20):
+        a = rng.uniform(0.5, 10.0)
+        q, v = -rng.uniform(0.0, 1.0), rng.uniform(0.0, 1.0)
+        lower, upper = np.array([-10.0]), np.array([0.0])
+        reached = q
+        for _ in range(100_000):
+            box = position_bounds(np.array([q]), lower, upper, np.array([a]), dt=dt, gain=1.0)
+            # As fast as allowed; the acceleration limit comes first, as in combine().
+            v = max(min(v + a * dt, float(box.upper[0])), v - a * dt, 0.0)
+            q += v * dt
+            reached = max(reached, q)
+            if v == 0.0 and box.upper[0] <= a * dt * 1e-9:
+                break
+        assert reached <= 1e-12, (a, dt, reached)
+
+
+def test_braking_bound_never_asks_more_deceleration_than_allowed():
+    dt, a = 1e-3, 3.0
+    lower, upper = np.array([-1.0]), np.array([1.0])
+    q, v = 0.0, 0.0
+    for _ in range(5000):
+        box = position_bounds(np.array([q]), lower, upper, np.array([a]), dt=dt, gain=1.0)
+        wanted = min(float(box.upper[0]), v + a * dt)
+        assert wanted >= v - a * dt - 1e-12  # the bound never drops faster than a dt per step
+        v = wanted
+        q += v * dt
+    assert q <= upper[0]
 
 
 def test_combine_adds_objectives_and_stacks_constraint_rows():

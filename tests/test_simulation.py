@@ -197,3 +197,26 @@ def test_bad_arguments_are_refused(shot, nominal):
         Noise(position=-1.0)
     with pytest.raises(InvalidInputError, match="force"):
         Impulse(time=0.1, force=[1.0, 2.0])
+
+
+def test_after_the_plan_the_reference_rests_at_its_final_pose(shot, nominal):
+    robot = shot.robot
+    result = simulate(robot, nominal, controllers.JointPD(robot), plant="kinematic", settle=0.2)
+    after = result.t > nominal.duration
+    assert after.sum() >= 199
+    np.testing.assert_array_equal(result.references.qd[after], 0.0)
+    np.testing.assert_array_equal(result.references.twist[after], 0.0)
+    final = nominal.sample(nominal.duration).q
+    np.testing.assert_allclose(result.references.q[after], np.tile(final, (after.sum(), 1)))
+    np.testing.assert_array_equal(result.references.t, result.t)
+
+
+def test_mismatched_plans_and_controllers_are_refused(shot, nominal):
+    robot = shot.robot
+    with pytest.raises(InvalidInputError, match=r"planners\.Trajectory"):
+        simulate(robot, "plan.json", controllers.JointPD(robot))
+    paddle = robots.load("paddle4")
+    with pytest.raises(InvalidInputError, match=r"controller is for robot 'paddle4' \(4 joints\)"):
+        simulate(robot, nominal, controllers.JointPD(paddle))
+    with pytest.raises(InvalidInputError, match="progress"):
+        simulate(robot, nominal, controllers.JointPD(robot), progress="no")
