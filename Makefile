@@ -24,9 +24,7 @@ test: $(STAMP)
 	$(BIN)/python -m pytest
 
 bench: $(STAMP)
-	$(BIN)/python benchmarks/time_optimal.py
-	$(BIN)/python benchmarks/strike.py
-	$(BIN)/python benchmarks/tracking.py
+	$(BIN)/python benchmarks/run_all.py --readme
 
 lint: $(STAMP)
 	$(BIN)/ruff check --fix .

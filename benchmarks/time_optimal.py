@@ -30,7 +30,7 @@ import toppra.constraint
 import planners
 import problems
 import robots
-from benchmarking import progress
+from benchmarking import progress, write_report
 from optraj.errors import MissingDependencyError
 from planners.lower_bound import lower_bound
 
@@ -156,6 +156,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeats", type=int, default=5, help="timing repeats per case")
     parser.add_argument("--cases", type=int, default=20, help="cases for the overhead timing")
     parser.add_argument("--quick", action="store_true", help="a few cases only (for CI)")
+    parser.add_argument("--out", type=Path, default=None, help="Markdown file to write")
     args = parser.parse_args(argv)
     if args.quick:
         args.moves, args.repeats, args.cases = 3, 1, 2
@@ -187,10 +188,7 @@ def main(argv: list[str] | None = None) -> int:
         "time-optimal under all three and sits on it. Cubic, LSPB and TOPPRA ignore the jerk",
         "limit (their jerk is unbounded at blends), so they can come in slightly under it.",
     ]
-    text = "\n".join(lines) + "\n"
-    RESULTS.mkdir(exist_ok=True)
-    (RESULTS / "time_optimal.md").write_text(text)
-    print(text)
+    write_report(lines, args.out if args.out is not None else RESULTS / "time_optimal.md")
     return 0
 
 

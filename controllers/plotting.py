@@ -13,24 +13,17 @@ from typing import Any
 import numpy as np
 
 from controllers.simulation import Result
-from optraj.errors import InvalidInputError, MissingDependencyError
+from optraj.errors import InvalidInputError
+from planners.plotting import pyplot
 from robots import JointLimits
 
 __all__ = ["plot_tracking"]
 
 
-def _pyplot() -> Any:
-    try:
-        import matplotlib.pyplot as plt
-    except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise MissingDependencyError("matplotlib", "examples", "plotting") from exc
-    return plt
-
-
 def plot_tracking(
     results: Result | Sequence[Result], limits: JointLimits, *, joint: int | None = None
 ) -> Any:
-    """Compare runs: tool position error, strike speed error and commanded joint speed.
+    """Compare runs: tool position error, tool speed error and commanded joint speed.
 
     Args:
         results: One run or several (e.g. one per controller) on the same plan.
@@ -54,7 +47,7 @@ def plot_tracking(
         joint = int(np.argmax(np.max(ratios, axis=0)))
     elif isinstance(joint, bool) or not isinstance(joint, (int, np.integer)) or not 0 <= joint < n:
         raise InvalidInputError(f"joint must be in [0, {n - 1}], got {joint}", name="joint")
-    plt = _pyplot()
+    plt = pyplot()
     figure, (error_axes, speed_axes, joint_axes) = plt.subplots(
         3, 1, sharex=True, figsize=(8.0, 8.0), constrained_layout=True
     )
@@ -66,7 +59,7 @@ def plot_tracking(
         error_axes.plot(run.t, 1e3 * np.linalg.norm(realised - p, axis=1), label=label)
         planned = np.linalg.norm(run.references.twist[:, :3], axis=1)
         actual = np.linalg.norm(np.gradient(realised, run.t, axis=0), axis=1)
-        speed_axes.plot(run.t, 100.0 * (actual - planned) / np.maximum(planned, 1e-3))
+        speed_axes.plot(run.t, actual - planned)
         joint_axes.step(run.t[:-1], run.command[:, joint], where="post", label=run.controller)
     limit = limits.velocity[joint]
     for sign in (1.0, -1.0):
@@ -77,7 +70,7 @@ def plot_tracking(
             axes.axvspan(*strike.window, color="0.9", zorder=0)
     error_axes.set_ylabel("tool position error [mm]")
     error_axes.legend(loc="upper left")
-    speed_axes.set_ylabel("tool speed error [%]")
+    speed_axes.set_ylabel("tool speed - planned [m/s]")
     joint_axes.set_ylabel(f"command {limits.names[joint]} [{limits.unit('velocity', joint)}]")
     joint_axes.set_xlabel("time [s] (grey: strike window; dashed: speed limit)")
     joint_axes.legend(loc="upper left")

@@ -1,120 +1,235 @@
 """The ``optraj`` command.
 
-``optraj demo`` runs the main job: it loads every robot and prints its joints, limits and tool
-pose at home, reproduces the ECE486 seed's paddle table, and shows the independent checker's
-verdict on classic plans. ``optraj robots`` lists the robots that can be loaded.
-Errors print one line to stderr and exit with status 2; the packages are imported lazily so
-that ``optraj --help`` is instant.
+``optraj demo`` runs the main job (:mod:`optraj.demo`): every robot's joints and limits, the
+ECE486 seed's paddle table, the checker on classic plans, then the Sawyer pool shot planned by
+every strike planner, checked, tracked by both controllers, with plots and plans written to
+``--out``. ``optraj plan`` plans one problem with one planner and writes the trajectory as
+JSON, ``optraj check`` judges such a file again, ``optraj bench`` runs the benchmarks of the
+source checkout, ``optraj robots`` lists the robots.
+
+Errors print one line to stderr (``optraj: error: ...``) and exit with status 2; ``check``
+exits 1 when a trajectory fails. The packages are imported lazily so that ``optraj --help``
+is instant.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
+import os
+import subprocess
 import sys
-from collections.abc import Sequence
-from typing import TextIO
+import textwrap
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any, NoReturn, TextIO
 
-from optraj.errors import MissingDependencyError, OptrajError
+from optraj.errors import InvalidInputError, OptrajError, UnknownNameError
 
-__all__ = ["main"]
+__all__ = [
+    "PLANNERS",
+    "PROBLEMS",
+    "build_problem",
+    "describe_failures",
+    "main",
+    "make_planner",
+    "tag_trajectory",
+]
+
+#: The problems ``optraj plan`` knows, each with the one robot it is for (None: any robot).
+PROBLEMS: dict[str, str | None] = {
+    "pool-shot": "sawyer",
+    "paddle-strike": "paddle4",
+    "pick-and-place": "youbot",
+    "point-to-point": None,
+}
+_OPTIMAL_CONTROL = ("optimal-control", "optimal-control-jerk")
+#: The planners of each problem, by command-line name.
+PLANNERS: dict[str, tuple[str, ...]] = {
+    "pool-shot": ("seed", "cubic", "quintic", "lspb", "toppra", "ruckig", *_OPTIMAL_CONTROL),
+    "paddle-strike": ("cubic", "quintic", "toppra", "ruckig", *_OPTIMAL_CONTROL),
+    "pick-and-place": ("cubic", "quintic", "lspb", "ruckig"),
+    "point-to-point": ("cubic", "quintic", "lspb", "toppra", "ruckig", *_OPTIMAL_CONTROL),
+}
+#: Options of ``optraj plan`` and the problems they apply to.
+_OPTION_PROBLEMS: dict[str, tuple[str, ...]] = {
+    "speed": ("pool-shot", "paddle-strike"),
+    "ball": ("pool-shot", "paddle-strike"),
+    "heading": ("pool-shot",),
+    "q_start": ("point-to-point",),
+    "q_goal": ("point-to-point",),
+    "duration": ("point-to-point",),
+}
 
 
-def _robot_report(name: str, out: TextIO) -> None:
-    import numpy as np
-    import pinocchio as pin
+# ------------------------------------------------------------------------ shared pieces
 
+
+def make_planner(problem: str, name: str) -> Any:
+    """The planner called ``name`` on the command line, for a problem of kind ``problem``.
+
+    Raises:
+        UnknownNameError: An unknown problem, or a planner that does not plan it (lists the
+            ones that do).
+    """
+    if problem not in PLANNERS:
+        raise UnknownNameError("problem", problem, PLANNERS)
+    if name not in PLANNERS[problem]:
+        raise UnknownNameError(f"planner for {problem}", name, PLANNERS[problem])
+    import planners
+
+    if name.startswith("optimal-control"):
+        return planners.OptimalControl(objective="jerk" if name.endswith("jerk") else "time")
+    if problem == "pool-shot":
+        if name == "seed":
+            return planners.SeedStrike()
+        if name in ("toppra", "ruckig"):
+            return planners.TimeOptimalStrike(name)
+        return planners.ClassicStrike(name)
+    if problem == "paddle-strike":
+        if name in ("toppra", "ruckig"):
+            return planners.TimeOptimalStrike(name)
+        return planners.Cubic() if name == "cubic" else planners.Quintic()
+    profiles: dict[str, Callable[[], Any]] = {
+        "cubic": planners.Cubic,
+        "quintic": planners.Quintic,
+        "lspb": planners.LSPB,
+        "toppra": planners.Toppra,
+        "ruckig": planners.Ruckig,
+    }
+    profile = profiles[name]()
+    return planners.PickAndPlacePlanner(profile) if problem == "pick-and-place" else profile
+
+
+def _check_fit(robot: str, problem: str) -> None:
+    """Raise unless ``problem`` is known and made for ``robot``."""
     import robots
 
-    robot = robots.load(name)
-    T = robot.tool_pose(robot.home)
-    rpy = pin.rpy.matrixToRpy(T[:3, :3])
-    out.write(f"\n{robot.name}: {robot.description}\n")
-    width = max(len(joint) for joint in ("joint", *robot.joint_names)) + 2
-    header = (
-        f"  {'joint':<{width}}{'unit':>5}{'lower':>10}{'upper':>10}{'home':>10}"
-        f"{'vel':>9}{'acc':>9}{'jerk':>9}{'effort':>9}\n"
-    )
-    out.write(header)
-    for row, q in zip(robot.limits.table(), robot.home, strict=True):
-        out.write(
-            f"  {row['joint']:<{width}}{row['unit']:>5}{row['lower']:>10.4f}{row['upper']:>10.4f}"
-            f"{q:>10.4f}{row['velocity']:>9.3f}{row['acceleration']:>9.2f}{row['jerk']:>9.1f}"
-            f"{row['effort']:>9.2f}\n"
+    if robot not in robots.known_robots():
+        raise UnknownNameError("robot", robot, robots.known_robots())
+    if problem not in PROBLEMS:
+        raise UnknownNameError("problem", problem, PROBLEMS)
+    wanted = PROBLEMS[problem]
+    if wanted is not None and wanted != robot:
+        fits = [name for name, owner in PROBLEMS.items() if owner in (None, robot)]
+        raise InvalidInputError(
+            f"problem {problem!r} is for robot {wanted!r}, not {robot!r}; problems for "
+            f"{robot}: {', '.join(fits)}",
+            name="problem",
         )
-    # Adding 0.0 turns -0.0 into 0.0 for printing.
-    position = np.array2string(T[:3, 3] + 0.0, precision=4, floatmode="fixed", suppress_small=True)
-    angles = np.array2string(
-        np.round(np.degrees(rpy), 2) + 0.0, precision=2, floatmode="fixed", suppress_small=True
-    )
-    out.write(
-        f"  tool frame {robot.tool_frame!r} at home: position {position} m, "
-        f"roll-pitch-yaw {angles} deg\n"
-    )
+
+
+def _joint_values(robot: Any, values: Any, option: str) -> list[float]:
+    """Joint positions from a pose name or one number per joint [rad or m]."""
+    if isinstance(values, str):
+        values = [values]
+    values = list(values)
+    if len(values) == 1 and isinstance(values[0], str) and values[0] in robot.poses:
+        return [float(v) for v in robot.poses[values[0]]]
+    try:
+        numbers = [float(v) for v in values]
+    except (TypeError, ValueError):
+        raise InvalidInputError(
+            f"{option} takes {robot.dof} joint positions [rad or m] or a pose name "
+            f"({', '.join(robot.poses)}), got {' '.join(map(str, values))!r}",
+            name=option,
+        ) from None
+    if len(numbers) != robot.dof:
+        raise InvalidInputError(
+            f"{option} needs {robot.dof} values [rad or m], one per joint of {robot.name} "
+            f"({', '.join(robot.joint_names)}), got {len(numbers)}",
+            name=option,
+        )
+    return numbers
+
+
+def build_problem(robot: str, problem: str, options: Mapping[str, Any]) -> Any:
+    """Build a problem from its command-line name and JSON-able options.
+
+    Args:
+        robot: Robot name.
+        problem: One of :data:`PROBLEMS`.
+        options: ``speed`` [m/s], ``ball`` [m], ``heading`` [deg] (strikes); ``q_start``,
+            ``q_goal`` [rad or m], ``duration`` [s] (point-to-point); ``limit_scale`` [-]
+            (all). Missing or None: the default.
+
+    Raises:
+        UnknownNameError, InvalidInputError: An unknown name, a problem for another robot, or
+            bad option values.
+    """
+    import dataclasses
+
+    import problems
+    import robots
+
+    _check_fit(robot, problem)
+    get = {key: value for key, value in options.items() if value is not None}.get
+    try:
+        if problem == "pool-shot":
+            extra = {"ball": tuple(get("ball"))} if get("ball") is not None else {}
+            built = problems.sawyer_pool_shot(
+                speed=float(get("speed", 1.0)), heading_deg=float(get("heading", 0.0)), **extra
+            )
+        elif problem == "paddle-strike":
+            from problems.scenarios import SEED_PADDLE_BALLS
+
+            built = problems.PaddleStrike(
+                robots.load("paddle4"),
+                ball=tuple(get("ball", SEED_PADDLE_BALLS[0])),
+                speed=float(get("speed", 0.0)),
+            )
+        elif problem == "pick-and-place":
+            built = problems.youbot_two_blocks()
+        else:
+            model = robots.load(robot)
+            built = problems.PointToPoint(
+                model,
+                q_start=_joint_values(model, get("q_start", "home"), "--q-start"),
+                q_goal=_joint_values(model, get("q_goal", "home"), "--q-goal"),
+                duration=get("duration"),
+            )
+            if built.duration is None and list(built.q_start) == list(built.q_goal):
+                raise InvalidInputError(
+                    "the goal equals the start (--q-start and --q-goal default to home): give "
+                    f"--q-goal as {model.dof} joint positions [rad or m] or a pose name "
+                    f"({', '.join(model.poses)}), or a --duration to hold still",
+                    name="q_goal",
+                )
+        scale = float(get("limit_scale", 1.0))
+        if scale != 1.0:
+            built = dataclasses.replace(built, limits=built.robot.limits.scaled(scale))
+    except OptrajError:
+        raise
+    except (TypeError, ValueError, KeyError) as exc:
+        raise InvalidInputError(
+            f"bad options for problem {problem!r}: {exc}", name="options"
+        ) from exc
+    return built
+
+
+def tag_trajectory(traj: Any, robot: str, problem: str, options: Mapping[str, Any]) -> None:
+    """Store in the metadata what ``optraj check`` needs to rebuild the problem."""
+    traj.metadata.update({"robot": robot, "problem": problem, "problem_options": dict(options)})
+
+
+def describe_failures(report: Any) -> str:
+    """The failing findings of a report, each with its value as % of the limit."""
+    parts = []
+    for finding in report.violations:
+        if math.isinf(finding.ratio):
+            parts.append(f"{finding.name} unbounded (jump)")
+        else:
+            parts.append(f"{finding.name} {finding.ratio:.0%}")
+    return ", ".join(parts)
+
+
+# ------------------------------------------------------------------------------ commands
 
 
 def _cmd_demo(args: argparse.Namespace, out: TextIO) -> int:
-    import robots
+    from optraj import demo
 
-    out.write("optraj robots: joints, limits (units per row) and the tool pose at home\n")
-    missing = []
-    for name in robots.known_robots():
-        try:
-            _robot_report(name, out)
-        except MissingDependencyError as exc:
-            if not args.skip_missing:
-                raise
-            missing.append(f"{name} ({exc})")
-    for line in missing:
-        out.write(f"\nskipped {line}\n")
-    _seed_table(out)
-    _verdicts(out)
-    return 0
-
-
-def _seed_table(out: TextIO) -> None:
-    import numpy as np
-
-    import planners
-    import problems
-
-    problem = problems.seed_paddle_strike()
-    traj = planners.Cubic().plan(problem)
-    times = np.arange(0.0, problem.contact_time + 1e-9, 1.0 / 5.0)
-    out.write(
-        "\npaddle4, seed ECE486: ball (1.1, 0.8, 0.7) m from home, cubic, T = 2 s, 5 Hz\n"
-        f"  {'t [s]':>6}{'J1 [m]':>9}{'J2 [rad]':>10}{'J3 [m]':>9}{'J4 [rad]':>10}\n"
-    )
-    for t, q in zip(times, traj.sample(times).q, strict=True):
-        out.write(f"  {t:>6.1f}{q[0]:>9.4f}{q[1]:>10.4f}{q[2]:>9.4f}{q[3]:>10.4f}\n")
-
-
-def _verdicts(out: TextIO) -> None:
-    import planners
-    import problems
-
-    cases = [
-        ("youBot pick and place", planners.PickAndPlacePlanner(planners.Quintic()),
-         problems.youbot_two_blocks(), ("position", "velocity", "acceleration", "jerk")),
-        ("youBot pick and place", planners.PickAndPlacePlanner(planners.LSPB()),
-         problems.youbot_two_blocks(), ("position", "velocity", "acceleration")),
-        ("Sawyer pool shot 1 m/s", planners.SeedStrike(), problems.sawyer_pool_shot(), None),
-    ]  # fmt: skip
-    out.write(
-        "\nthe independent checker on classic plans (failures: value as % of the limit)\n"
-        f"  {'task':<24}{'planner':<30}{'time [s]':>9}  {'verdict':<8}checked / failing findings\n"
-    )
-    for task, planner, problem, quantities in cases:
-        traj = planner.plan(problem)
-        report = planners.check(traj, problem, quantities=quantities)
-        if report.violations:
-            note = ", ".join(
-                f"{f.name} {'unbounded (jump)' if f.ratio == float('inf') else f'{f.ratio:.0%}'}"
-                for f in report.violations
-            )
-        else:
-            note = "+".join(q[:3] for q in (quantities or planners.checker.QUANTITIES)) + ", task"
-        verdict = "ok" if report.ok else "FAIL"
-        out.write(f"  {task:<24}{planner.name:<30}{traj.duration:>9.3f}  {verdict:<8}{note}\n")
+    return demo.run(args, out)
 
 
 def _cmd_robots(args: argparse.Namespace, out: TextIO) -> int:
@@ -125,16 +240,224 @@ def _cmd_robots(args: argparse.Namespace, out: TextIO) -> int:
     return 0
 
 
+def _plan_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The options given for the problem, refusing those that do not apply to it."""
+    options: dict[str, Any] = {}
+    for key, kinds in _OPTION_PROBLEMS.items():
+        value = getattr(args, key)
+        if value is None:
+            continue
+        if args.problem not in kinds:
+            raise InvalidInputError(
+                f"--{key.replace('_', '-')} does not apply to problem {args.problem!r}; it is "
+                f"for {', '.join(kinds)}",
+                name=key,
+            )
+        options[key] = value
+    if args.limit_scale != 1.0:
+        options["limit_scale"] = args.limit_scale
+    return options
+
+
+def _cmd_plan(args: argparse.Namespace, out: TextIO) -> int:
+    robot = args.robot.lower()
+    _check_fit(robot, args.problem)
+    planner = make_planner(args.problem, args.planner)
+    options = _plan_options(args)
+    problem = build_problem(robot, args.problem, options)
+    if args.problem == "point-to-point":
+        # Keep the resolved joint positions, so that a pose name or the default rebuilds alike.
+        options = {
+            "q_start": [float(v) for v in problem.q_start],
+            "q_goal": [float(v) for v in problem.q_goal],
+            **{k: v for k, v in options.items() if k not in ("q_start", "q_goal")},
+        }
+    import planners
+
+    traj = planner.plan(problem)
+    tag_trajectory(traj, robot, args.problem, options)
+    report = planners.check(traj, problem)
+    path = Path(args.out)
+    try:
+        traj.to_json(path)
+    except OSError as exc:
+        raise InvalidInputError(f"cannot write {str(path)!r}: {exc.strerror}", name="out") from exc
+    if len(traj.phases) > 4:
+        names = [p.name for p in traj.phases]
+        phases = ", ".join([*names[:3], "...", names[-1]])
+    else:
+        phases = ", ".join(f"{p.name} {p.t_start:.3f}-{p.t_end:.3f} s" for p in traj.phases)
+    given = _show(options)
+    verdict = (
+        f"the checker passes all {len(report.findings)} findings (joint limits including "
+        "torque, and every task constraint)"
+        if report.ok
+        else f"the checker FAILS {len(report.violations)} of {len(report.findings)} findings: "
+        f"{describe_failures(report)}"
+    )
+    solve = traj.metadata.get("solve_time")
+    paragraph = (
+        f"{args.problem} for {robot}{f' ({given})' if given else ''}, planned with "
+        f"{traj.metadata.get('planner', args.planner)}"
+        f"{f' in {solve:.2f} s' if isinstance(solve, float) else ''}: a {traj.duration:.3f} s "
+        f"motion in {len(traj.phases)} phase{'s' if len(traj.phases) != 1 else ''}"
+        f"{f' ({phases})' if phases else ''}; "
+        f"{verdict}. Wrote {path}; check it again with: optraj check {path}"
+    )
+    out.write(textwrap.fill(paragraph, width=100) + "\n")
+    return 0
+
+
+_UNIT = {"speed": " m/s", "ball": " m", "heading": " deg", "duration": " s"}
+
+
+def _show(options: Mapping[str, Any]) -> str:
+    """Problem options as ``name value unit, ...``."""
+
+    def number(value: Any) -> str:
+        return f"{value:.4g}" if isinstance(value, (int, float)) else str(value)
+
+    parts = []
+    for key, value in options.items():
+        if isinstance(value, (list, tuple)):
+            text = "(" + ", ".join(number(v) for v in value) + ")"
+        else:
+            text = number(value)
+        parts.append(f"{key} {text}{_UNIT.get(key, '')}")
+    return ", ".join(parts)
+
+
+def _cmd_check(args: argparse.Namespace, out: TextIO) -> int:
+    import planners
+    import robots
+
+    try:
+        traj = planners.Trajectory.from_json(Path(args.file))
+    except (OSError, ValueError) as exc:
+        if isinstance(exc, OptrajError):
+            raise
+        raise InvalidInputError(f"cannot read {args.file!r}: {exc}", name="file") from exc
+    saved = traj.metadata.get("robot")
+    if saved is not None and not isinstance(saved, str):
+        raise InvalidInputError(f"{args.file!r} has a malformed robot name", name="robot")
+    robot = (args.robot or saved or "").lower()
+    if not robot:
+        raise InvalidInputError(
+            f"{args.file!r} does not say which robot it is for; give --robot (one of "
+            f"{', '.join(robots.known_robots())})",
+            name="robot",
+        )
+    problem_name = traj.metadata.get("problem")
+    target: Any
+    if problem_name is not None and (saved is None or saved == robot):
+        options = traj.metadata.get("problem_options") or {}
+        if not isinstance(options, Mapping) or not isinstance(problem_name, str):
+            raise InvalidInputError(
+                f"{args.file!r} has malformed problem metadata", name="problem_options"
+            )
+        target = build_problem(robot, problem_name, options)
+        against = f"robot {robot}, problem {problem_name}" + (
+            f" ({_show(options)})" if options else ""
+        )
+    else:
+        target = robots.load(robot)
+        against = f"robot {robot}, its joint limits only (no problem recorded for it)"
+    report = planners.check(traj, target, rate=args.rate)
+    out.write(f"{args.file}: checked against {against}\n{report}\n")
+    return 0 if report.ok else 1
+
+
+def _benchmarks_runner() -> Path:
+    """Where ``benchmarks/run_all.py`` lies in a source checkout."""
+    import optraj
+
+    return Path(optraj.__file__).resolve().parents[1] / "benchmarks" / "run_all.py"
+
+
+def _cmd_bench(args: argparse.Namespace, out: TextIO) -> int:
+    runner = _benchmarks_runner()
+    if not runner.is_file():
+        raise OptrajError(
+            f"the benchmarks ship with the source checkout, not with the installed package: "
+            f"{runner} is missing; clone the repository, install it (make demo, or pip install "
+            "-e .) and run optraj bench there"
+        )
+    root = runner.parents[1]
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(root), env.get("PYTHONPATH")]))
+    out.flush()
+    command = [sys.executable, str(runner), *(["--quick"] if args.quick else [])]
+    return subprocess.run(command, cwd=root, env=env, check=False).returncode
+
+
+# -------------------------------------------------------------------------------- parser
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with a one-line error message, like the rest of the command."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+_UNITS = (
+    "Units: positions in rad (revolute joints) or m (prismatic joints and Cartesian points), "
+    "times in s, speeds in m/s (tool) or rad/s (joints), angles of --heading in deg."
+)
+
+
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="optraj",
         description=(
             "Optimization-based motion planning for arms that strike and carry. Units: m, rad, "
             "s, rad/s, rad/s^2, rad/s^3, N m (N for prismatic joints)."
         ),
+        epilog=(
+            "Exit status: 0 done, 1 a checked trajectory fails, 2 bad input or a failed plan "
+            "(one line on stderr). 'optraj COMMAND --help' gives each command's units."
+        ),
     )
     sub = parser.add_subparsers(dest="command", required=True)
-    demo = sub.add_parser("demo", help="run the main job: load every robot and print a table")
+    _demo_parser(sub)
+    listing = sub.add_parser("robots", help="list the robots that robots.load() knows")
+    listing.set_defaults(run=_cmd_robots)
+    _plan_parser(sub)
+    _check_parser(sub)
+    bench = sub.add_parser(
+        "bench",
+        help="run the benchmarks (source checkout only)",
+        description=(
+            "Run benchmarks/run_all.py of the source checkout with this Python: the time-optimal, "
+            "strike and tracking benchmarks; tables and plots go to benchmarks/results/. Exits "
+            "with the runner's status, 2 when the benchmarks are not there (installed package)."
+        ),
+    )
+    bench.add_argument("--quick", action="store_true", help="a few cases only, as in CI")
+    bench.set_defaults(run=_cmd_bench)
+    return parser
+
+
+def _demo_parser(sub: Any) -> None:
+    demo = sub.add_parser(
+        "demo",
+        help="run the main job: robots, the pool shot by every planner, tracking, plots",
+        description=(
+            "Print every robot's joints and limits (units per row), the ECE486 seed's paddle "
+            "table and the checker's verdicts on classic plans; then plan the Sawyer pool shot "
+            "(cue at 1 m/s) with every strike planner and check each plan (motion time [s], "
+            "peaks as a fraction of the limits, strike position error [mm]), track the "
+            "minimum-time optimal-control plan (planned within 80 % of the limits) with the "
+            "pseudo-inverse PID and the differential-IK QP (errors in mm and %, step time in "
+            "us), and write plots (PNG) and plans (JSON) to --out."
+        ),
+    )
+    demo.add_argument(
+        "--out",
+        default="optraj-out",
+        metavar="DIR",
+        help="directory for the plots and plans, created if needed (default: ./optraj-out)",
+    )
     demo.add_argument(
         "--strict",
         dest="skip_missing",
@@ -142,20 +465,138 @@ def _parser() -> argparse.ArgumentParser:
         help="fail instead of skipping robots whose optional package is missing",
     )
     demo.set_defaults(run=_cmd_demo)
-    listing = sub.add_parser("robots", help="list the robots that robots.load() knows")
-    listing.set_defaults(run=_cmd_robots)
-    return parser
+
+
+def _plan_parser(sub: Any) -> None:
+    lines = [
+        textwrap.fill(
+            f"{name:<15} robot {robot or 'any'}; planners: {', '.join(PLANNERS[name])}",
+            80,
+            initial_indent="  ",
+            subsequent_indent=" " * 18,
+        )
+        for name, robot in PROBLEMS.items()
+    ]
+    intro = (
+        "Plan one problem with one planner, check the result and write it as JSON (the exact "
+        "piecewise polynomials, with the problem recorded so that 'optraj check' can rebuild "
+        "it). Exit status 0 when planned and written (whatever the checker says), 2 when the "
+        "input is bad or no plan is possible (one line on stderr)."
+    )
+    plan = sub.add_parser(
+        "plan",
+        help="plan one problem with one planner and write the trajectory as JSON",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        description="\n\n".join(
+            [textwrap.fill(intro, 80), "problems:\n" + "\n".join(lines), textwrap.fill(_UNITS, 80)]
+        ),
+    )
+    plan.add_argument("robot", metavar="ROBOT", help="robot name (see 'optraj robots')")
+    plan.add_argument("--problem", required=True, metavar="NAME", help=", ".join(PROBLEMS))
+    plan.add_argument(
+        "--planner",
+        required=True,
+        metavar="NAME",
+        help="planner name; valid ones per problem above",
+    )
+    strike = plan.add_argument_group("pool-shot and paddle-strike")
+    strike.add_argument(
+        "--speed",
+        type=float,
+        metavar="M/S",
+        help="tool speed at the ball [m/s]: the cue (pool-shot, default 1.0) or the paddle "
+        "along its normal (paddle-strike, default 0: arrive at rest)",
+    )
+    strike.add_argument(
+        "--ball",
+        type=float,
+        nargs=3,
+        metavar=("X", "Y", "Z"),
+        help="ball centre in the base frame [m] (default: pool-shot (0.75, 0.15, -0.05), "
+        "paddle-strike the seed's (1.1, 0.8, 0.7))",
+    )
+    strike.add_argument(
+        "--heading",
+        type=float,
+        metavar="DEG",
+        help="pool-shot direction from +x about +z [deg] (default 0)",
+    )
+    joint = plan.add_argument_group("point-to-point")
+    joint.add_argument(
+        "--q-start",
+        nargs="+",
+        metavar="Q",
+        help="start joint positions [rad or m], one per joint, or a pose name (default home)",
+    )
+    joint.add_argument(
+        "--q-goal",
+        nargs="+",
+        metavar="Q",
+        help="goal joint positions [rad or m], one per joint, or a pose name (default home)",
+    )
+    joint.add_argument(
+        "--duration",
+        type=float,
+        metavar="S",
+        help="fixed duration [s] (ruckig: the shortest; toppra chooses its own); default: as "
+        "fast as the limits allow",
+    )
+    plan.add_argument(
+        "--limit-scale",
+        type=float,
+        default=1.0,
+        metavar="F",
+        help="plan within this fraction of the velocity, acceleration and jerk limits, in "
+        "(0, 1] (default 1)",
+    )
+    plan.add_argument(
+        "--out", default="traj.json", metavar="PATH", help="output file (default traj.json)"
+    )
+    plan.set_defaults(run=_cmd_plan)
+
+
+def _check_parser(sub: Any) -> None:
+    check = sub.add_parser(
+        "check",
+        help="check a trajectory JSON file against its robot's limits and its problem",
+        description=(
+            "Check a trajectory written by 'optraj plan' or 'optraj demo' (or "
+            "Trajectory.to_json): every joint limit (position [rad or m], velocity, "
+            "acceleration, jerk, torque [N m]) and, when the file records its problem, every "
+            "task constraint (strike line [m], speed [m/s], ...). Prints the report; exits 0 "
+            "when every finding passes, 1 when one fails, 2 on bad input."
+        ),
+    )
+    check.add_argument("file", metavar="FILE", help="trajectory JSON file")
+    check.add_argument(
+        "--robot",
+        metavar="NAME",
+        help="robot to check against when the file names none; another robot than the "
+        "file's checks its joint limits only",
+    )
+    check.add_argument(
+        "--rate",
+        type=float,
+        default=1000.0,
+        metavar="HZ",
+        help="sampling rate [Hz] (breakpoints and exact peaks are always included; default 1000)",
+    )
+    check.set_defaults(run=_cmd_check)
 
 
 def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
-    """Run the command line; returns the exit status (0 ok, 2 bad input or failure)."""
+    """Run the command line; returns the exit status (0 ok, 1 check failed, 2 bad input)."""
     args = _parser().parse_args(argv)
     stream = out if out is not None else sys.stdout
     try:
         return int(args.run(args, stream))
     except OptrajError as exc:
-        print(f"optraj: error: {exc}", file=sys.stderr)
+        message = " ".join(str(exc).split())  # one line, whatever the message holds
+        print(f"optraj: error: {message}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("optraj: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":

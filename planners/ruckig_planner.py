@@ -157,7 +157,7 @@ def _check_state(
             if abs(value) > bound(allowed):
                 raise InfeasibleError(
                     f"{label} {quantity} {value:.6g} {limits.unit(quantity, j)} of joint "
-                    f"{name!r} exceeds its limit {allowed:.6g}",
+                    f"{name!r} exceeds its limit {allowed:.6g} {limits.unit(quantity, j)}",
                     limit=quantity,
                     joint=name,
                     required=float(abs(value)),

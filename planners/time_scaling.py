@@ -277,7 +277,7 @@ class _Polynomial(JointProfile):
             unit = limits.unit(quantity, j)
             raise InfeasibleError(
                 f"{self.name} in {duration:.4g} s needs joint {limits.names[j]!r} at "
-                f"{needed:.4g} {unit} ({quantity}), limit {allowed:.4g}",
+                f"{needed:.4g} {unit} ({quantity}), limit {allowed:.4g} {unit}",
                 limit=quantity,
                 joint=limits.names[j],
                 required=needed,

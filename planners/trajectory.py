@@ -14,6 +14,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+import pickle
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -181,6 +182,22 @@ class Trajectory:
                     name="phases",
                 )
         self.metadata: dict[str, Any] = dict(metadata or {})
+
+    def __getstate__(self) -> dict[str, Any]:
+        """Everything but the metadata values that cannot be pickled (Ruckig's own object).
+
+        Plans can then be sent to worker processes; the dropped values stay in the original.
+        """
+        state = self.__dict__.copy()
+        kept = {}
+        for key, value in self.metadata.items():
+            try:
+                pickle.dumps(value)
+            except Exception:
+                continue
+            kept[key] = value
+        state["metadata"] = kept
+        return state
 
     # ---------------------------------------------------------------------- properties
 

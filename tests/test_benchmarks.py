@@ -5,6 +5,8 @@ from __future__ import annotations
 import importlib.util
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -93,3 +95,48 @@ def test_tracking_quick_run_writes_its_tables(tmp_path, monkeypatch):
     assert over["differential-IK QP"][6] == "0/2"
     assert float(over["differential-IK QP"][7]) <= 1.0
     assert "| differential-IK QP |" in timing and "| 1.00 |" in timing
+
+
+def test_run_all_runs_each_benchmark_draws_the_plots_and_rewrites_the_readme(tmp_path, monkeypatch):
+    module = _load("run_all", monkeypatch)
+    calls = []
+
+    def fake(name):
+        def main(argv):
+            calls.append((name, argv))
+            out = Path(argv[argv.index("--out") + 1])
+            out.write_text(
+                f"# {name}\n\nCommand: `python benchmarks/{name}.py --quick`\n\n"
+                f"| a | b |\n|---|---|\n| {name} | 1 |\n\n## Durations\n\n"
+                f"| c |\n|---|\n| {name} durations |\n\n## Controller time per step\n\n"
+                f"| d |\n|---|\n| {name} timing |\n"
+            )
+            return 0
+
+        return main
+
+    monkeypatch.setattr(
+        module, "BENCHMARKS", [(n, fake(n), []) for n in ("time_optimal", "strike", "tracking")]
+    )
+    readme = tmp_path / "README.md"
+    readme.write_text(f"# optraj\n\nbefore\n\n{module.BEGIN}\nstale\n{module.END}\n\nafter\n")
+    monkeypatch.setattr(module, "README", readme)
+    out = tmp_path / "results"
+    assert module.main(["--quick", "--out", str(out), "--readme"]) == 0
+    assert [name for name, _ in calls] == ["time_optimal", "strike", "tracking"]
+    assert all("--quick" in argv for _, argv in calls)
+    for name in ("profiles.png", "strike_speed.png", "tracking.png"):
+        assert (out / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    text = readme.read_text()
+    assert "stale" not in text and text.startswith("# optraj\n\nbefore") and "after" in text
+    assert "| strike | 1 |" in text and "| tracking timing |" in text
+    assert "| time_optimal durations |" in text
+    assert f"]({out.resolve()}/tracking.png)" in text  # outside the repository: absolute
+
+
+def test_run_all_refuses_a_readme_without_markers(tmp_path, monkeypatch):
+    module = _load("run_all", monkeypatch)
+    readme = tmp_path / "README.md"
+    readme.write_text("# optraj\n")
+    with pytest.raises(ValueError, match="no results markers"):
+        module.rewrite_readme(readme, "section")

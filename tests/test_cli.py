@@ -3,20 +3,55 @@
 from __future__ import annotations
 
 import io
+import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 from conftest import get_robot
 
+import optraj.cli
+import optraj.demo
+import planners
+import problems
 from optraj.cli import main
 
+HAVE_MATPLOTLIB = True
+try:
+    import matplotlib  # noqa: F401
+except ImportError:  # pragma: no cover - depends on the environment
+    HAVE_MATPLOTLIB = False
 
-def test_demo_prints_every_robot_with_its_tool_pose():
-    out = io.StringIO()
-    assert main(["demo"], out=out) == 0
-    text = out.getvalue()
+
+@pytest.fixture(scope="module")
+def demo(tmp_path_factory):
+    """One run of ``optraj demo`` (it takes a few seconds), in a scratch directory."""
+    cwd = tmp_path_factory.mktemp("demo")
+    with pytest.MonkeyPatch.context() as patch:
+        patch.chdir(cwd)
+        out = io.StringIO()
+        status = main(["demo", "--out", "plots"], out=out)
+    return status, out.getvalue(), cwd / "plots"
+
+
+def _row(text: str, label: str) -> str:
+    return next(line for line in text.splitlines() if line.startswith(f"  {label} "))
+
+
+def _error_line(capsys) -> str:
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    return err[0]
+
+
+# ------------------------------------------------------------------------------ demo
+
+
+def test_demo_prints_every_robot_with_its_tool_pose(demo):
+    status, text, _ = demo
+    assert status == 0
     for name in ("paddle4", "sawyer", "youbot"):
         robot = get_robot(name)
         assert f"\n{name}: " in text
@@ -39,16 +74,20 @@ def test_robots_lists_names():
     assert out.getvalue().splitlines()[0].startswith("paddle4")
 
 
-def test_strict_demo_fails_with_one_line_when_optional_package_is_missing(monkeypatch, capsys):
+def test_strict_demo_fails_with_one_line_when_optional_package_is_missing(
+    monkeypatch, capsys, tmp_path
+):
+    monkeypatch.chdir(tmp_path)
     monkeypatch.setitem(sys.modules, "example_robot_data", None)
     assert main(["demo", "--strict"], out=io.StringIO()) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1
-    assert err[0].startswith("optraj: error: robots.load('panda') needs the package")
+    line = _error_line(capsys)
+    assert line.startswith("optraj: error: robots.load('panda') needs the package")
 
 
-def test_demo_skips_missing_optional_robots(monkeypatch):
+def test_demo_skips_missing_optional_robots(monkeypatch, tmp_path):
+    monkeypatch.chdir(tmp_path)
     monkeypatch.setitem(sys.modules, "example_robot_data", None)
+    monkeypatch.setattr(optraj.demo, "strike_section", lambda *args: None)  # the slow part
     out = io.StringIO()
     assert main(["demo"], out=out) == 0
     assert "skipped panda" in out.getvalue()
@@ -68,13 +107,267 @@ def test_console_script_module_runs():
     assert "sawyer" in done.stdout
 
 
-def test_demo_reproduces_the_seed_table_and_the_checker_verdicts():
-    out = io.StringIO()
-    assert main(["demo"], out=out) == 0
-    text = out.getvalue()
+def test_demo_reproduces_the_seed_table_and_the_checker_verdicts(demo):
+    _, text, _ = demo
     # Rows printed in the ECE486 seed for the ball (1.1, 0.8, 0.7).
     assert "     0.2   0.4626    0.0110   0.0280   -0.0110" in text
     assert "     1.8   0.8874    0.3802   0.9705   -0.3802" in text
     assert "pick and place (quintic)" in text and "pick and place (lspb)" in text
     seed_line = next(line for line in text.splitlines() if "seed (pull back + line)" in line)
     assert "FAIL" in seed_line and "acceleration unbounded (jump)" in seed_line
+
+
+def test_demo_plans_the_pool_shot_with_every_planner(demo):
+    _, text, _ = demo
+    section = text.split("Sawyer pool shot 1 m/s: every planner")[1]
+    for key in optraj.cli.PLANNERS["pool-shot"]:
+        assert f"  {optraj.cli.make_planner('pool-shot', key).name} " in section
+    best = _row(section, "optimal control (min time)").split()
+    # label (4 words), time, verdict, vel, acc, jerk, strike position error [mm], failing
+    assert best[5] == "ok" and best[-1] == "-"
+    assert float(best[8]) <= 1.0 + 1e-6 and float(best[9]) < 0.01
+    assert " ok " in _row(section, "optimal control (min jerk)")
+    seed = _row(section, "seed (pull back + line)")
+    assert " FAIL " in seed and "acceleration unbounded (jump)" in seed
+    # At 1 m/s the strike line itself is beyond right_j1's speed at the problem's contact.
+    cubic = _row(section, "cubic strike")
+    assert " error " in cubic and "InfeasibleError: the strike line at 1 m/s" in cubic
+
+
+def test_demo_tracks_the_plan_with_both_controllers(demo):
+    _, text, _ = demo
+    section = text.split("tracking the minimum-time optimal-control plan")[1]
+    assert "within 80% of the limits" in section
+    for label in ("pseudo-inverse PID", "differential-IK QP"):
+        cells = _row(section, label).split()[-6:]
+        tool, line, speed, count, worst, step = map(float, cells)
+        assert 0.0 < line <= tool < 20.0  # [mm]
+        assert 0.0 <= speed < 10.0  # [%]
+        assert count == 0 and worst <= 1.0 and step > 0.0
+
+
+def test_demo_writes_plots_and_plans_that_check(demo, capsys):
+    _, text, out_dir = demo
+    plans = ["plan-seed.json", "plan-optimal-control.json", "plan-optimal-control-tracked.json"]
+    pictures = ["profiles.png", "tool_speed.png", "tracking.png"] if HAVE_MATPLOTLIB else []
+    for name in [*pictures, *plans]:
+        assert (out_dir / name).stat().st_size > 1000, name
+        assert name in text
+    for name, status in (("plan-optimal-control-tracked.json", 0), ("plan-seed.json", 1)):
+        out = io.StringIO()
+        assert main(["check", str(out_dir / name)], out=out) == status
+        assert "problem pool-shot" in out.getvalue()
+
+
+def test_demo_creates_nothing_in_the_working_directory_but_out(demo):
+    _, _, out_dir = demo
+    assert sorted(p.name for p in out_dir.parent.iterdir()) == [out_dir.name]
+
+
+# ------------------------------------------------------------------------ plan and check
+
+
+def _plan_then_check(tmp_path, monkeypatch, argv):
+    monkeypatch.chdir(tmp_path)
+    out = io.StringIO()
+    assert main(["plan", *argv], out=out) == 0
+    summary = out.getvalue()
+    traj = planners.Trajectory.from_json(tmp_path / "traj.json")
+    out = io.StringIO()
+    status = main(["check", "traj.json"], out=out)
+    return summary, traj, status, out.getvalue()
+
+
+def test_plan_then_check_a_pool_shot_with_ruckig(tmp_path, monkeypatch):
+    # Ruckig's entry into the line at 1 m/s is beyond right_j1's speed limit: plan at 0.5 m/s.
+    summary, traj, status, report = _plan_then_check(
+        tmp_path,
+        monkeypatch,
+        ["sawyer", "--problem", "pool-shot", "--planner", "ruckig", "--speed", "0.5"],
+    )
+    assert traj.metadata["robot"] == "sawyer" and traj.metadata["problem"] == "pool-shot"
+    assert traj.metadata["problem_options"] == {"speed": 0.5}
+    assert [phase.name for phase in traj.phases] == ["approach", "strike", "stop"]
+    expected = planners.check(traj, problems.sawyer_pool_shot(speed=0.5))
+    assert status == (0 if expected.ok else 1)
+    assert report.splitlines()[0] == (
+        "traj.json: checked against robot sawyer, problem pool-shot (speed 0.5 m/s)"
+    )
+    assert report.rstrip().endswith(str(expected).splitlines()[-1])
+    assert "ruckig strike" in summary and "Wrote traj.json" in summary.replace("\n", " ")
+
+
+def test_plan_then_check_point_to_point_with_quintic(tmp_path, monkeypatch):
+    goal = [0.3, -0.9, 0.2, 1.8, -0.1, 0.8, 3.0]
+    summary, traj, status, report = _plan_then_check(
+        tmp_path,
+        monkeypatch,
+        ["sawyer", "--problem", "point-to-point", "--planner", "quintic", "--q-goal"]
+        + [str(v) for v in goal],
+    )
+    robot = get_robot("sawyer")
+    expected = planners.check(traj, problems.PointToPoint(robot, robot.home, goal))
+    assert status == (0 if expected.ok else 1)
+    np.testing.assert_allclose(traj.sample(traj.duration).q, goal, atol=1e-9)
+    options = traj.metadata["problem_options"]
+    np.testing.assert_allclose(options["q_start"], robot.home, atol=0.0)
+    assert ("PASS" if expected.ok else "FAIL") in report
+    assert "quintic" in summary
+
+
+def test_plan_point_to_point_takes_a_pose_name_and_a_duration(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    robot = get_robot("youbot")
+    argv = ["plan", "youbot", "--problem", "point-to-point", "--planner", "cubic"]
+    assert main([*argv, "--q-goal", "candle", "--duration", "3", "--out", "m.json"]) == 0
+    traj = planners.Trajectory.from_json(tmp_path / "m.json")
+    assert traj.duration == pytest.approx(3.0)
+    np.testing.assert_allclose(traj.sample(3.0).q, robot.poses["candle"], atol=1e-12)
+
+
+def test_plan_paddle_strike_and_pick_and_place_check_out(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    for argv in (
+        ["paddle4", "--problem", "paddle-strike", "--planner", "quintic", "--ball", "1.1", "-0.8",
+         "0.7"],
+        ["youbot", "--problem", "pick-and-place", "--planner", "quintic"],
+    ):  # fmt: skip
+        assert main(["plan", *argv], out=io.StringIO()) == 0
+        assert main(["check", "traj.json", "--rate", "200"], out=io.StringIO()) == 0
+    traj = planners.Trajectory.from_json(tmp_path / "traj.json")
+    assert traj.metadata["planner"] == "pick and place (quintic)"
+
+
+def test_check_a_file_without_a_problem_uses_the_robot_limits(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    robot = get_robot("sawyer")
+    traj = planners.Ruckig().plan(problems.PointToPoint(robot, robot.home, robot.home + 0.2))
+    Path("bare.json").write_text(traj.to_json())
+    assert main(["check", "bare.json"], out=io.StringIO()) == 2
+    assert "give --robot" in _error_line(capsys)
+    out = io.StringIO()
+    assert main(["check", "bare.json", "--robot", "sawyer"], out=out) == 0
+    assert "its joint limits only" in out.getvalue()
+    assert "PASS" in out.getvalue()
+
+
+def test_help_of_every_command_explains_units(capsys):
+    wanted = {
+        "plan": ["[m/s]", "[m]", "[deg]", "[rad or m]", "[s]"],
+        "check": ["[Hz]", "[rad or m]", "[N m]"],
+        "demo": ["[s]", "mm"],
+        "bench": ["--quick"],
+    }
+    for command, words in wanted.items():
+        with pytest.raises(SystemExit) as info:
+            main([command, "--help"])
+        assert info.value.code == 0
+        text = " ".join(capsys.readouterr().out.split())
+        for word in words:
+            assert word in text, (command, word)
+
+
+# --------------------------------------------------------------------------- error paths
+
+PLAN = ["plan", "sawyer", "--problem", "pool-shot", "--planner"]
+
+
+@pytest.mark.parametrize(
+    ("argv", "expected"),
+    [
+        (["plan", "sawer", "--problem", "pool-shot", "--planner", "ruckig"],
+         "unknown robot 'sawer'; known: paddle4, sawyer"),
+        ([*PLAN, "fastest"],
+         "unknown planner for pool-shot 'fastest'; known: seed, cubic, quintic, lspb, toppra, "
+         "ruckig, optimal-control, optimal-control-jerk"),
+        (["plan", "sawyer", "--problem", "pool", "--planner", "ruckig"],
+         "unknown problem 'pool'; known: pool-shot, paddle-strike, pick-and-place, "
+         "point-to-point (did you mean 'pool-shot'?)"),
+        (["plan", "youbot", "--problem", "pool-shot", "--planner", "ruckig"],
+         "problem 'pool-shot' is for robot 'sawyer', not 'youbot'; problems for youbot: "
+         "pick-and-place, point-to-point"),
+        (["plan", "sawyer", "--problem", "point-to-point", "--planner", "seed"],
+         "unknown planner for point-to-point 'seed'; known: cubic,"),
+        ([*PLAN, "ruckig", "--q-goal", "0"],
+         "--q-goal does not apply to problem 'pool-shot'"),
+        (["plan", "sawyer", "--problem", "point-to-point", "--planner", "cubic", "--q-goal", "1"],
+         "--q-goal needs 7 values [rad or m]"),
+        (["plan", "sawyer", "--problem", "point-to-point", "--planner", "cubic"],
+         "the goal equals the start"),
+        ([*PLAN, "optimal-control", "--speed", "2.5"],
+         "strike speed 2.5 m/s needs right_j0"),
+        ([*PLAN, "ruckig", "--speed", "0.5", "--out", "no/such/dir/traj.json"],
+         "cannot write 'no/such/dir/traj.json'"),
+        (["plan", "sawyer", "--problem", "pool-shot"],
+         "optraj plan: error: the following arguments are required: --planner"),
+        (["check", "missing.json"], "no trajectory file at 'missing.json'"),
+    ],
+)  # fmt: skip
+def test_errors_exit_2_with_one_line(argv, expected, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    try:
+        status = main(argv, out=io.StringIO())
+    except SystemExit as exc:  # argparse's own errors
+        status = exc.code
+    assert status == 2
+    line = _error_line(capsys)
+    assert line.startswith("optraj")
+    assert expected in line
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ('{"format": "optraj.trajectory/1", "breakpoints": [0, 1', "trajectory JSON is malformed"),
+        ("[1, 2]", "not an optraj trajectory"),
+        ('{"format": "optraj.trajectory/1"}', "missing or has a malformed field"),
+        ("\udcff\udcfe not text", "cannot read 'bad.json'"),
+    ],
+)
+def test_check_of_a_bad_file_exits_2_with_one_line(text, expected, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    Path("bad.json").write_bytes(text.encode("utf-8", "surrogateescape"))
+    assert main(["check", "bad.json"], out=io.StringIO()) == 2
+    assert expected in _error_line(capsys)
+
+
+def test_check_of_bad_problem_metadata_exits_2(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    robot = get_robot("sawyer")
+    traj = planners.Ruckig().plan(problems.PointToPoint(robot, robot.home, robot.home + 0.2))
+    traj.metadata.update(robot="sawyer", problem="pool-shot", problem_options={"ball": "far"})
+    traj.to_json("odd.json")
+    assert main(["check", "odd.json"], out=io.StringIO()) == 2
+    assert _error_line(capsys).startswith("optraj: error: ")
+
+
+# --------------------------------------------------------------------------------- bench
+
+
+def test_bench_without_the_source_checkout_exits_2(monkeypatch, capsys, tmp_path):
+    monkeypatch.setattr(optraj.cli, "_benchmarks_runner", lambda: tmp_path / "run_all.py")
+    assert main(["bench", "--quick"], out=io.StringIO()) == 2
+    assert "benchmarks ship with the source checkout" in _error_line(capsys)
+
+
+def test_bench_runs_the_runner_with_this_python_and_forwards_quick(monkeypatch, tmp_path):
+    runner = tmp_path / "benchmarks" / "run_all.py"
+    runner.parent.mkdir()
+    runner.write_text(
+        "import json, os, sys\n"
+        "json.dump({'argv': sys.argv[1:], 'cwd': os.getcwd(), 'python': sys.executable},"
+        " open('seen.json', 'w'))\n"
+        "sys.exit(3)\n"
+    )
+    monkeypatch.setattr(optraj.cli, "_benchmarks_runner", lambda: runner)
+    assert main(["bench", "--quick"], out=io.StringIO()) == 3
+    seen = json.loads((tmp_path / "seen.json").read_text())
+    assert seen["argv"] == ["--quick"]
+    assert Path(seen["cwd"]).resolve() == tmp_path.resolve()
+    assert Path(seen["python"]).resolve() == Path(sys.executable).resolve()
+
+
+def test_bench_finds_the_runner_next_to_the_packages():
+    root = Path(optraj.__file__).resolve().parents[1]
+    assert optraj.cli._benchmarks_runner() == root / "benchmarks" / "run_all.py"

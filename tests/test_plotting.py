@@ -6,9 +6,10 @@ from conftest import get_robot
 
 import controllers
 import planners
+import planners.plotting
 import problems
 from controllers.plotting import plot_tracking
-from optraj.errors import InvalidInputError
+from optraj.errors import InvalidInputError, UnknownNameError
 
 matplotlib = pytest.importorskip("matplotlib")  # optraj[examples]
 matplotlib.use("Agg")  # headless; plotting imports pyplot only when called
@@ -52,3 +53,74 @@ def test_plot_rejects_bad_arguments(runs):
         plot_tracking(results, robot.limits, joint=9)
     with pytest.raises(InvalidInputError, match=r"controllers\.Result"):
         plot_tracking([], robot.limits)
+
+
+# ------------------------------------------------------------------ planners.plotting
+
+
+@pytest.fixture(scope="module")
+def moves():
+    robot = get_robot("sawyer")
+    move = problems.PointToPoint(robot, q_start=robot.home, q_goal=robot.home + 0.3)
+    return robot, {"cubic": planners.Cubic().plan(move), "ruckig": planners.Ruckig().plan(move)}
+
+
+def test_profiles_draw_each_plan_against_the_limits_of_the_busiest_joint(moves):
+    robot, plans = moves
+    figure = planners.plotting.plot_profiles(plans, robot.limits)
+    axes = figure.axes
+    assert [ax.get_ylabel().split(" [")[0] for ax in axes] == [
+        "position",
+        "velocity",
+        "acceleration",
+        "jerk",
+    ]
+    ratios = [
+        np.max(np.abs(t.sample(t.times()).qd), 0) / robot.limits.velocity for t in plans.values()
+    ]
+    joint = int(np.argmax(np.max(ratios, axis=0)))
+    assert robot.limits.names[joint] in axes[0].get_title()
+    velocity = axes[1]
+    curves = [line for line in velocity.lines if line.get_linestyle() == "-"]
+    dashed = sorted(line.get_ydata()[0] for line in velocity.lines if line.get_linestyle() == "--")
+    assert len(curves) == 2
+    assert dashed == pytest.approx([-robot.limits.velocity[joint], robot.limits.velocity[joint]])
+    ruckig = plans["ruckig"]
+    t = curves[1].get_xdata()
+    np.testing.assert_allclose(curves[1].get_ydata(), ruckig.sample(t).qd[:, joint])
+    position = sorted(line.get_ydata()[0] for line in axes[0].lines if line.get_linestyle() == "--")
+    assert position == pytest.approx([robot.limits.lower[joint], robot.limits.upper[joint]])
+
+
+def test_tool_speed_and_stick_figures(moves):
+    robot, plans = moves
+    figure = planners.plotting.plot_tool_speed(robot, plans["ruckig"])
+    (ax,) = figure.axes
+    line = ax.lines[0]
+    t = line.get_xdata()
+    sample = plans["ruckig"].sample(t)
+    expected = np.linalg.norm(
+        np.einsum("mij,mj->mi", robot.jacobian(sample.q)[:, :3], sample.qd), axis=1
+    )
+    np.testing.assert_allclose(line.get_ydata(), expected, atol=1e-12)
+    figure = planners.plotting.plot_robot(robot, plans["cubic"], count=3)
+    sticks = [line for line in figure.axes[0].lines if line.get_marker() == "o"]
+    assert len(sticks) == 3
+    # The last point of each stick figure is the tool frame origin.
+    end = sticks[-1].get_data_3d()
+    q_end = plans["cubic"].sample(plans["cubic"].duration).q
+    np.testing.assert_allclose(np.array(end)[:, -1], robot.tool_position(q_end), atol=1e-12)
+
+
+def test_planner_plots_reject_bad_arguments(moves):
+    robot, plans = moves
+    with pytest.raises(InvalidInputError, match="trajectories must be"):
+        planners.plotting.plot_profiles({}, robot.limits)
+    with pytest.raises(InvalidInputError, match="joint must be in"):
+        planners.plotting.plot_profiles(plans, robot.limits, joint=7)
+    with pytest.raises(UnknownNameError, match="quantity"):
+        planners.plotting.plot_profiles(plans, robot.limits, quantities=["torque"])
+    with pytest.raises(InvalidInputError, match="has 7 joints"):
+        planners.plotting.plot_profiles(plans, get_robot("paddle4").limits)
+    with pytest.raises(InvalidInputError, match="count must be"):
+        planners.plotting.plot_robot(robot, plans["cubic"], count=1)

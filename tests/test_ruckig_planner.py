@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import pickle
 
 import numpy as np
 import pytest
@@ -484,3 +485,16 @@ def test_online_ruckig_rejects_bad_use():
         OnlineRuckig(limits, 0.0)
     with pytest.raises(InfeasibleError, match="start velocity"):
         online.reset(np.zeros(7), np.full(7, 5.0))
+
+
+def test_plans_pickle_without_ruckigs_own_object():
+    robot = get_robot("sawyer")
+    move = problems.PointToPoint(robot, q_start=robot.home, q_goal=robot.home + 0.3)
+    traj = Ruckig().plan(move)
+    with pytest.raises(TypeError):
+        pickle.dumps(traj.metadata["native"])  # ruckig's Trajectory does not pickle
+    clone = pickle.loads(pickle.dumps(traj))
+    t = np.linspace(0.0, traj.duration, 50)
+    np.testing.assert_array_equal(clone.sample(t).q, traj.sample(t).q)
+    assert "native" not in clone.metadata and "native" in traj.metadata
+    assert clone.metadata["planner"] == traj.metadata["planner"]
