@@ -44,7 +44,7 @@ from problems.common import unit_vector
 from robots import JointLimits, Robot, solve_ik
 from robots.paddle_ik import BALL_OFFSET
 
-__all__ = ["ContactChoice", "choose_contact", "twist_ratio"]
+__all__ = ["ContactChoice", "choose_contact", "contact_choices", "twist_ratio"]
 
 FloatArray = NDArray[np.float64]
 
@@ -464,16 +464,37 @@ def choose_contact(
         InvalidInputError: Another problem type, or bad ``candidates``, ``seed`` or ``margin``.
         SolverError: HiGHS fails on an LP (not expected).
     """
-    count = as_count(candidates, "candidates", 1)
+    return contact_choices(problem, 1, candidates=candidates, seed=seed, margin=margin)[0]
+
+
+def contact_choices(
+    problem: PoolStrike | PaddleStrike,
+    count: int = 3,
+    *,
+    candidates: int = 16,
+    seed: int = 0,
+    margin: float = 0.0,
+) -> tuple[ContactChoice, ...]:
+    """The best ``count`` distinct contact configurations, in :func:`choose_contact`'s order.
+
+    The first is :func:`choose_contact`'s; the others are other IK branches (at least 0.1 rad
+    apart on some joint), for a planner to fall back on when it cannot solve from the first.
+    A paddle strike has one (closed-form) configuration.
+
+    Raises:
+        InfeasibleError, InvalidInputError, SolverError: As :func:`choose_contact`.
+    """
+    wanted = as_count(count, "count", 1)
+    searched = as_count(candidates, "candidates", 1)
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InvalidInputError(f"seed must be an integer >= 0, got {seed!r}", name="seed")
     reserve = float(as_array(margin, "margin", ()))
     if not 0.0 <= reserve < 1.0:
         raise InvalidInputError(f"margin must be in [0, 1), got {reserve:.6g}", name="margin")
     if isinstance(problem, PoolStrike):
-        return _choose_pool(problem, count, int(seed), reserve)
+        return tuple(_rank_pool(problem, searched, int(seed), reserve, wanted))
     if isinstance(problem, PaddleStrike):
-        return _choose_paddle(problem, reserve)
+        return (_choose_paddle(problem, reserve),)
     raise InvalidInputError(
         f"choose_contact takes a problems.PoolStrike or a problems.PaddleStrike, got "
         f"{type(problem).__name__}",
@@ -487,7 +508,10 @@ def _reach(problem: PoolStrike, q: FloatArray) -> float:
     return float(np.max(np.abs(q - start) / np.asarray(problem.limits.velocity, dtype=float)))
 
 
-def _choose_pool(problem: PoolStrike, count: int, seed: int, margin: float) -> ContactChoice:
+def _rank_pool(
+    problem: PoolStrike, candidates: int, seed: int, margin: float, count: int
+) -> list[ContactChoice]:
+    """Up to ``count`` distinct contact configurations, best first (see choose_contact)."""
     search = _PoolSearch(problem)
     robot = problem.robot
     ik = solve_ik(
@@ -495,8 +519,8 @@ def _choose_pool(problem: PoolStrike, count: int, seed: int, margin: float) -> C
         problem.contact_point,
         axis=problem.direction,
         q_near=problem.q_start,
-        min_solutions=count,
-        restarts=_RESTARTS_PER_CANDIDATE * count,
+        min_solutions=candidates,
+        restarts=_RESTARTS_PER_CANDIDATE * candidates,
         seed=seed,
     )
     starts = [np.asarray(problem.q_contact, dtype=float)]
@@ -532,20 +556,33 @@ def _choose_pool(problem: PoolStrike, count: int, seed: int, margin: float) -> C
             f"any contact configuration found ({search.evaluated} tried)",
         )
     roomy = [w for w in windows if speed * w.r1 <= _HEADROOM * (1.0 - margin)]
-    if roomy:  # fast enough with room to spare: the one the arm reaches soonest
-        chosen = min(roomy, key=lambda w: (_reach(problem, w.q), w.score))
-    else:
-        chosen = min(windows, key=lambda w: (speed * w.r1 > 1.0 - margin, w.score))
-    return ContactChoice(
-        q=chosen.q,
-        qd=speed * chosen.qd1,
-        ratio=speed * chosen.r1,
-        max_speed=1.0 / chosen.r1 if chosen.r1 > 0.0 else math.inf,
-        binding_joint=problem.limits.names[chosen.binding[0]],
-        candidates=search.evaluated,
-        q_entry=chosen.q_entry,
-        q_exit=chosen.q_exit,
+    # Fast enough with room to spare: the one the arm reaches soonest first; then the rest
+    # by whether they are fast enough and their ratio.
+    ranked = sorted(roomy, key=lambda w: (_reach(problem, w.q), w.score)) + sorted(
+        (w for w in windows if all(w is not r for r in roomy)),
+        key=lambda w: (speed * w.r1 > 1.0 - margin, w.score),
     )
+    distinct: list[_Window] = []
+    for window in ranked:  # alternatives must be other branches, not the same one refined
+        if speed * window.r1 <= 1.0 - margin and all(
+            np.abs(window.q - other.q).max() > _SPREAD for other in distinct
+        ):
+            distinct.append(window)
+        if len(distinct) == count:
+            break
+    return [
+        ContactChoice(
+            q=w.q,
+            qd=speed * w.qd1,
+            ratio=speed * w.r1,
+            max_speed=1.0 / w.r1 if w.r1 > 0.0 else math.inf,
+            binding_joint=problem.limits.names[w.binding[0]],
+            candidates=search.evaluated,
+            q_entry=w.q_entry,
+            q_exit=w.q_exit,
+        )
+        for w in distinct
+    ]
 
 
 def _choose_paddle(problem: PaddleStrike, margin: float) -> ContactChoice:

@@ -87,7 +87,7 @@ from optraj.errors import (
 )
 from optraj.validation import as_count, as_positive
 from planners.base import stamp
-from planners.contact import ContactChoice, choose_contact
+from planners.contact import ContactChoice, choose_contact, contact_choices
 from planners.ruckig_planner import state_to_state, stop
 from planners.strike import strike_line
 from planners.time_scaling import quintic_coefficients
@@ -301,6 +301,8 @@ class OptimalControl:
         max_iterations: Iteration cap of the solver.
         tolerance: Solver tolerance (IPOPT ``tol``) [-].
         contact_candidates: Contact configurations compared for a strike.
+        contact_retries: Other contact configurations (other IK branches, next best first)
+            a pool strike is solved from when the solver fails from the chosen one, >= 0.
         free_grid: Whether each interval of a free phase has its own length (else all
             intervals of a phase are equal).
     """
@@ -323,6 +325,7 @@ class OptimalControl:
         max_iterations: int = 1000,
         tolerance: float = 1e-6,
         contact_candidates: int = 16,
+        contact_retries: int = 2,
         free_grid: bool = True,
     ) -> None:
         self.weights = _objective(objective)
@@ -358,6 +361,7 @@ class OptimalControl:
         self.max_iterations = as_count(max_iterations, "max_iterations", 1)
         self.tolerance = as_positive(tolerance, "tolerance")
         self.contact_candidates = as_count(contact_candidates, "contact_candidates", 1)
+        self.contact_retries = as_count(contact_retries, "contact_retries", 0)
         self.free_grid = bool(free_grid)
         self._compiled: dict[Structure, CompiledNLP] = {}
         self._models: dict[str, SymbolicModel] = {}
@@ -408,7 +412,28 @@ class OptimalControl:
             InvalidInputError: An unsupported problem.
         """
         started = time.perf_counter()
-        spec = self._spec(problem)
+        if not isinstance(problem, PoolStrike) or self.contact_retries == 0:
+            traj = self._plan(problem, self._spec(problem), warm_start)
+            return stamp(traj, self.name, started)
+        choices = contact_choices(
+            problem, 1 + self.contact_retries, candidates=self.contact_candidates
+        )
+        for attempt, choice in enumerate(choices, start=1):
+            # Another branch starts from its own guess: a warm start fits the first only.
+            start = warm_start if attempt == 1 else None
+            if attempt < len(choices):
+                try:
+                    traj = self._plan(problem, _pool(problem, choice), start)
+                except SolverError:
+                    continue
+            else:  # the last one: its failure is the caller's
+                traj = self._plan(problem, _pool(problem, choice), start)
+            traj.metadata["contact_attempts"] = attempt
+            return stamp(traj, self.name, started)
+        raise InvalidInputError("no contact configuration to plan from", name="problem")
+
+    def _plan(self, problem: Any, spec: _Spec, warm_start: Trajectory | None) -> Trajectory:
+        """Solve from a spec: with no time term, free durations are first minimised."""
         weights = self._weights(spec)
         if "time" not in self.weights and any(d is None for d in spec.durations):
             timed = self._rounds(problem, spec, self._weights(spec, time_only=True), None)
@@ -418,8 +443,7 @@ class OptimalControl:
             )
             spec.guess = timed
             warm_start = None
-        traj = self._rounds(problem, spec, weights, warm_start)
-        return stamp(traj, self.name, started)
+        return self._rounds(problem, spec, weights, warm_start)
 
     def build(self, problem: Any, warm_start: Trajectory | None = None) -> OptimalControlProblem:
         """The NLP of a problem with its bounds and initial guess, not yet solved.

@@ -24,7 +24,7 @@ from scipy.optimize import linprog
 import problems
 from optraj.errors import InfeasibleError, InvalidInputError, UnreachableError
 from planners.cartesian import paddle_contact_velocity
-from planners.contact import ContactChoice, choose_contact, twist_ratio
+from planners.contact import ContactChoice, choose_contact, contact_choices, twist_ratio
 from robots import solve_ik
 from robots.paddle_ik import BALL_OFFSET
 
@@ -463,3 +463,24 @@ def test_choose_contact_rejects_other_problems_and_bad_settings():
         with pytest.raises(InvalidInputError) as info:
             choose_contact(problem, **kwargs)
         assert info.value.name == name
+
+
+def test_contact_choices_are_distinct_branches_led_by_the_chosen_one():
+    problem = problems.sawyer_pool_shot(
+        1.0, (0.770755805063373, 0.11771877321136866, -0.04053151295117215), 6.371000264362529
+    )
+    choices = contact_choices(problem, 4)
+    assert len(choices) == 4
+    np.testing.assert_array_equal(choices[0].q, choose_contact(problem).q)
+    robot = problem.robot
+    for choice in choices:
+        assert choice.ratio <= 1.0
+        np.testing.assert_allclose(robot.tool_position(choice.q), problem.contact_point, atol=1e-6)
+        axis = robot.tool_pose(choice.q)[:3, 2]
+        np.testing.assert_allclose(axis, problem.direction, atol=1e-6)
+    for a, b in itertools.combinations(choices, 2):
+        assert np.abs(a.q - b.q).max() > 0.1
+    paddle = problems.seed_paddle_strike()
+    assert len(contact_choices(paddle, 3)) == 1
+    with pytest.raises(InvalidInputError, match="count"):
+        contact_choices(problem, 0)

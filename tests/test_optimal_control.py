@@ -268,6 +268,20 @@ def test_planner_pickles_without_its_compiled_solvers():
     np.testing.assert_allclose(again.breakpoints, first.breakpoints, atol=1e-9)
 
 
+def test_a_failed_solve_is_retried_from_the_next_contact_branch():
+    # Shot 42 of benchmarks/strike.py: IPOPT finds the problem infeasible from the chosen
+    # contact configuration and solves it from the next IK branch.
+    problem = problems.sawyer_pool_shot(
+        1.0, (0.770755805063373, 0.11771877321136866, -0.04053151295117215), 6.371000264362529
+    )
+    with pytest.raises(SolverError, match="Infeasible_Problem_Detected"):
+        OptimalControl("time", contact_retries=0).plan(problem)
+    traj = OptimalControl("time").plan(problem)
+    assert traj.metadata["contact_attempts"] == 2
+    report = check(traj, problem)
+    assert report.ok, report.summary()
+
+
 # ---------------------------------------------------------------------- errors and inputs
 
 
