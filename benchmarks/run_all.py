@@ -68,7 +68,7 @@ def draw_plots(out: Path) -> list[Path]:
     import matplotlib
 
     matplotlib.use("Agg")
-    from planners.plotting import plot_profiles, plot_tool_speed, pyplot
+    from planners.plot import plot_profiles, plot_tool_speed, pyplot
 
     plt = pyplot()
     shot = problems.sawyer_pool_shot(speed=1.0)

@@ -31,7 +31,7 @@ from controllers.plants import (
     PlantState,
     tool_force_to_joint_velocity,
 )
-from controllers.plotting import plot_tracking
+from controllers.plot import plot_tracking
 from controllers.pseudo_inverse_pid import PseudoInversePID
 from controllers.qp_terms import QP, Bounds, Constraint, Objective, combine
 from controllers.simulation import PLANTS, Impulse, Noise, Result, simulate

@@ -292,7 +292,7 @@ def write_plots(
         import matplotlib.pyplot as plt
 
         import controllers
-        from planners import plotting
+        from planners import plot as plotting
     except ImportError:
         out.write("\nplots skipped: matplotlib is not installed (pip install 'optraj[examples]')\n")
         return []

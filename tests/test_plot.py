@@ -6,9 +6,9 @@ from conftest import get_robot
 
 import controllers
 import planners
-import planners.plotting
+import planners.plot
 import problems
-from controllers.plotting import plot_tracking
+from controllers.plot import plot_tracking
 from optraj.errors import InvalidInputError, UnknownNameError
 
 matplotlib = pytest.importorskip("matplotlib")  # optraj[examples]
@@ -55,7 +55,7 @@ def test_plot_rejects_bad_arguments(runs):
         plot_tracking([], robot.limits)
 
 
-# ------------------------------------------------------------------ planners.plotting
+# ------------------------------------------------------------------ planners.plot
 
 
 @pytest.fixture(scope="module")
@@ -67,7 +67,7 @@ def moves():
 
 def test_profiles_draw_each_plan_against_the_limits_of_the_busiest_joint(moves):
     robot, plans = moves
-    figure = planners.plotting.plot_profiles(plans, robot.limits)
+    figure = planners.plot.plot_profiles(plans, robot.limits)
     axes = figure.axes
     assert [ax.get_ylabel().split(" [")[0] for ax in axes] == [
         "position",
@@ -94,7 +94,7 @@ def test_profiles_draw_each_plan_against_the_limits_of_the_busiest_joint(moves):
 
 def test_tool_speed_and_stick_figures(moves):
     robot, plans = moves
-    figure = planners.plotting.plot_tool_speed(robot, plans["ruckig"])
+    figure = planners.plot.plot_tool_speed(robot, plans["ruckig"])
     (ax,) = figure.axes
     line = ax.lines[0]
     t = line.get_xdata()
@@ -103,7 +103,7 @@ def test_tool_speed_and_stick_figures(moves):
         np.einsum("mij,mj->mi", robot.jacobian(sample.q)[:, :3], sample.qd), axis=1
     )
     np.testing.assert_allclose(line.get_ydata(), expected, atol=1e-12)
-    figure = planners.plotting.plot_robot(robot, plans["cubic"], count=3)
+    figure = planners.plot.plot_robot(robot, plans["cubic"], count=3)
     sticks = [line for line in figure.axes[0].lines if line.get_marker() == "o"]
     assert len(sticks) == 3
     # The last point of each stick figure is the tool frame origin.
@@ -115,12 +115,12 @@ def test_tool_speed_and_stick_figures(moves):
 def test_planner_plots_reject_bad_arguments(moves):
     robot, plans = moves
     with pytest.raises(InvalidInputError, match="trajectories must be"):
-        planners.plotting.plot_profiles({}, robot.limits)
+        planners.plot.plot_profiles({}, robot.limits)
     with pytest.raises(InvalidInputError, match="joint must be in"):
-        planners.plotting.plot_profiles(plans, robot.limits, joint=7)
+        planners.plot.plot_profiles(plans, robot.limits, joint=7)
     with pytest.raises(UnknownNameError, match="quantity"):
-        planners.plotting.plot_profiles(plans, robot.limits, quantities=["torque"])
+        planners.plot.plot_profiles(plans, robot.limits, quantities=["torque"])
     with pytest.raises(InvalidInputError, match="has 7 joints"):
-        planners.plotting.plot_profiles(plans, get_robot("paddle4").limits)
+        planners.plot.plot_profiles(plans, get_robot("paddle4").limits)
     with pytest.raises(InvalidInputError, match="count must be"):
-        planners.plotting.plot_robot(robot, plans["cubic"], count=1)
+        planners.plot.plot_robot(robot, plans["cubic"], count=1)

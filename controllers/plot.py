@@ -14,7 +14,7 @@ import numpy as np
 
 from controllers.simulation import Result
 from optraj.errors import InvalidInputError
-from planners.plotting import pyplot
+from planners.plot import pyplot
 from robots import JointLimits
 
 __all__ = ["plot_tracking"]
