@@ -49,7 +49,7 @@ from controllers.qp_terms import (
     velocity_bounds,
 )
 from optraj.errors import InvalidInputError
-from optraj.validation import as_array, as_count, as_positive
+from optraj.validation import as_array, as_count, as_fraction, as_positive
 from robots import JointLimits, Robot
 
 __all__ = ["DiffIKQP"]
@@ -148,8 +148,8 @@ class DiffIKQP(Controller):
                 f"limits cover {self.limits.n} joints, robot {robot.name!r} has {robot.dof}",
                 name="limits",
             )
-        self.velocity_scale = _fraction(velocity_scale, "velocity_scale")
-        self.position_gain = _fraction(position_gain, "position_gain")
+        self.velocity_scale = as_fraction(velocity_scale, "velocity_scale")
+        self.position_gain = as_fraction(position_gain, "position_gain")
         self.constraints = tuple(_checked_rows(c, robot.dof) for c in constraints)
         self.tolerance = as_positive(tolerance, "tolerance")
         self.max_iterations = as_count(max_iterations, "max_iterations", minimum=1)
@@ -379,10 +379,3 @@ def _checked_rows(constraint: object, n: int) -> Constraint:
             f"constraint row {i}: lower {lower[i]:.6g} > upper {upper[i]:.6g}", name="constraints"
         )
     return Constraint(G, lower, upper)
-
-
-def _fraction(value: float, name: str) -> float:
-    number = float(as_array(value, name, ()))
-    if not 0.0 < number <= 1.0:
-        raise InvalidInputError(f"{name} must be in (0, 1], got {number:.6g}", name=name)
-    return number

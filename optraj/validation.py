@@ -14,7 +14,15 @@ from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
 
-__all__ = ["as_array", "as_batch", "as_count", "as_positive", "as_transform", "as_vector"]
+__all__ = [
+    "as_array",
+    "as_batch",
+    "as_count",
+    "as_fraction",
+    "as_positive",
+    "as_transform",
+    "as_vector",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -100,6 +108,16 @@ def as_positive(value: float, name: str, unit: str = "") -> float:
         unit_text = f" {unit}" if unit else ""
         raise InvalidInputError(
             f"{name} must be > 0{unit_text}, got {number:.6g}{unit_text}", name=name, value=value
+        )
+    return number
+
+
+def as_fraction(value: float, name: str) -> float:
+    """Return ``value`` as a float in (0, 1] (a scale or a share of a limit)."""
+    number = float(as_array(value, name, ()))
+    if not 0.0 < number <= 1.0:
+        raise InvalidInputError(
+            f"{name} must be in (0, 1], got {number:.6g}", name=name, value=value
         )
     return number
 

@@ -555,12 +555,13 @@ def _rank_pool(
             margin,
             f"any contact configuration found ({search.evaluated} tried)",
         )
-    roomy = [w for w in windows if speed * w.r1 <= _HEADROOM * (1.0 - margin)]
+    room = _HEADROOM * (1.0 - margin)
+    roomy = [w for w in windows if speed * w.r1 <= room]
+    tight = [w for w in windows if speed * w.r1 > room]
     # Fast enough with room to spare: the one the arm reaches soonest first; then the rest
     # by whether they are fast enough and their ratio.
     ranked = sorted(roomy, key=lambda w: (_reach(problem, w.q), w.score)) + sorted(
-        (w for w in windows if all(w is not r for r in roomy)),
-        key=lambda w: (speed * w.r1 > 1.0 - margin, w.score),
+        tight, key=lambda w: (speed * w.r1 > 1.0 - margin, w.score)
     )
     distinct: list[_Window] = []
     for window in ranked:  # alternatives must be other branches, not the same one refined

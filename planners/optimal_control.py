@@ -418,19 +418,29 @@ class OptimalControl:
         choices = contact_choices(
             problem, 1 + self.contact_retries, candidates=self.contact_candidates
         )
-        for attempt, choice in enumerate(choices, start=1):
-            # Another branch starts from its own guess: a warm start fits the first only.
-            start = warm_start if attempt == 1 else None
-            if attempt < len(choices):
-                try:
-                    traj = self._plan(problem, _pool(problem, choice), start)
-                except SolverError:
-                    continue
-            else:  # the last one: its failure is the caller's
-                traj = self._plan(problem, _pool(problem, choice), start)
-            traj.metadata["contact_attempts"] = attempt
-            return stamp(traj, self.name, started)
-        raise InvalidInputError("no contact configuration to plan from", name="problem")
+        # Another branch starts from its own guess: a warm start fits the first only. The last
+        # branch's failure is the caller's.
+        for attempt, choice in enumerate(choices[:-1], start=1):
+            try:
+                start = warm_start if attempt == 1 else None
+                return self._attempt(problem, choice, start, attempt, started)
+            except SolverError:
+                continue
+        last = warm_start if len(choices) == 1 else None
+        return self._attempt(problem, choices[-1], last, len(choices), started)
+
+    def _attempt(
+        self,
+        problem: PoolStrike,
+        choice: ContactChoice,
+        warm_start: Trajectory | None,
+        attempt: int,
+        started: float,
+    ) -> Trajectory:
+        """Plan a pool strike from the ``attempt``-th contact choice (counted from 1)."""
+        traj = self._plan(problem, _pool(problem, choice), warm_start)
+        traj.metadata["contact_attempts"] = attempt
+        return stamp(traj, self.name, started)
 
     def _plan(self, problem: Any, spec: _Spec, warm_start: Trajectory | None) -> Trajectory:
         """Solve from a spec: with no time term, free durations are first minimised."""

@@ -8,7 +8,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, JointLimitError, UnknownNameError
-from optraj.validation import as_array, as_batch, as_count, as_vector
+from optraj.validation import as_array, as_batch, as_count, as_fraction, as_vector
 
 __all__ = ["JointLimits"]
 
@@ -187,9 +187,7 @@ class JointLimits:
             InvalidInputError: A factor outside (0, 1].
             UnknownNameError: A quantity that is not one of the four.
         """
-        number = float(as_array(factor, "factor", ()))
-        if not 0.0 < number <= 1.0:
-            raise InvalidInputError(f"factor must be in (0, 1], got {number:.6g}", name="factor")
+        number = as_fraction(factor, "factor")
         symmetric = ("velocity", "acceleration", "jerk", "effort")
         for name in quantities:
             if name not in symmetric:

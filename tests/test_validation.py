@@ -6,7 +6,14 @@ import numpy as np
 import pytest
 
 from optraj.errors import InvalidInputError
-from optraj.validation import as_array, as_batch, as_positive, as_transform, as_vector
+from optraj.validation import (
+    as_array,
+    as_batch,
+    as_fraction,
+    as_positive,
+    as_transform,
+    as_vector,
+)
 
 
 def test_as_vector_accepts_and_copies_lists():
@@ -64,3 +71,13 @@ def test_bools_strings_and_overflow_are_not_numbers(value):
     shape = () if value in (True, "abc", None) else (3,)
     with pytest.raises(InvalidInputError, match="numeric array"):
         as_array(value, "x", shape)
+
+
+def test_as_fraction():
+    assert as_fraction(1, "scale") == 1.0
+    assert as_fraction(0.25, "scale") == 0.25
+    for bad in (0.0, -0.5, 1.5):
+        with pytest.raises(InvalidInputError, match=r"scale must be in \(0, 1\], got"):
+            as_fraction(bad, "scale")
+    with pytest.raises(InvalidInputError, match="finite"):
+        as_fraction(float("nan"), "scale")
