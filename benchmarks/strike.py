@@ -216,7 +216,7 @@ def extra_sections(shots: list[problems.PoolStrike], quick: bool = False) -> lis
         f"Minimum time, {count} shots; cold: the ball moved 2 cm from each shot, solved from "
         "scratch (a solver already compiled for the grid); warm: the same, started from the "
         "unmoved shot's solution (primal and dual); torque rows: at every node from the start. "
-        "Wall time includes the contact choice (about 0.2 s); NLP time is IPOPT alone.",
+        "Wall time includes the contact choice (about 35 ms); NLP time is IPOPT alone.",
         "",
         "| run | median wall [ms] | p95 wall [ms] | median NLP [ms] | median iterations |",
         "|---|---|---|---|---|",

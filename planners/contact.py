@@ -11,9 +11,13 @@ and the smallest velocity-limit ratio over it is a small linear programme (LP),
     r(q, v) = \min_{\dot q,\, s} s \quad \text{s.t.} \quad A \dot q = v\, b, \quad
     -s\, \dot q_{\max} \le \dot q \le s\, \dot q_{\max},
 
-solved by :func:`twist_ratio` (HiGHS through CasADi, over the null-space coordinates of A, so
-the equalities hold to rounding). It is linear in the speed, :math:`r(q, v) = v\, r_1(q)`, so
-the fastest strike the configuration allows within the velocity limits is :math:`1 / r_1(q)`.
+solved by :func:`twist_ratio` over the null-space coordinates of A, so the equalities hold to
+rounding: exactly in NumPy by enumerating the LP's vertices when the null space has one or two
+dimensions (a cue on its line, a paddle), which returns the least-norm optimal joint velocity,
+and by HiGHS through CasADi otherwise. A joint that moves nothing the rows hold (the cue's roll
+about its own axis) stays still. The ratio is linear in the speed,
+:math:`r(q, v) = v\, r_1(q)`, so the fastest strike the configuration allows within the
+velocity limits is :math:`1 / r_1(q)`.
 
 :func:`choose_contact` picks the contact configuration with the smallest ratio. A pool cue can
 meet the ball from a two-dimensional family of configurations (Sawyer has 7 joints for 5 task
@@ -29,6 +33,8 @@ budget on a strike no configuration can make.
 
 from __future__ import annotations
 
+import functools
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -37,19 +43,27 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
-from optraj.errors import InfeasibleError, InvalidInputError, SolverError, UnreachableError
+from optraj.errors import InfeasibleError, InvalidInputError, SolverError
 from optraj.validation import as_array, as_count, as_vector
 from problems import PaddleStrike, PoolStrike
 from problems.common import unit_vector
 from robots import JointLimits, Robot, solve_ik
+from robots.ik import LocalIK
 from robots.paddle_ik import BALL_OFFSET
 
 __all__ = ["ContactChoice", "choose_contact", "contact_choices", "twist_ratio"]
 
 FloatArray = NDArray[np.float64]
 
+_WORLD_ALIGNED = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+
 #: Singular values below this fraction of the largest count as zero in the task rows.
 _RANK_TOLERANCE = 1e-10
+#: A joint whose column of the task rows is shorter than this fraction of the longest one
+#: moves nothing the rows hold, up to rounding and the IK tolerance (a cue's roll about its own
+#: axis): it is left still and the LP solved for the other joints. Otherwise the minimiser
+#: would spin it at the limit ratio for a gain of about 1e-9 in the ratio.
+_IDLE_COLUMN = 1e-7
 #: Relative residual above which the task rows cannot give the motion (ratio = inf).
 _RESIDUAL_TOLERANCE = 1e-9
 #: HiGHS primal and dual feasibility tolerances (its defaults are 1e-7).
@@ -61,10 +75,18 @@ _RESTARTS_PER_CANDIDATE = 3
 _REFINED = 3
 #: ... at least this far apart (largest joint difference) [rad or m], ...
 _SPREAD = 0.1
-#: ... each with at most this many trial configurations.
-_TRIALS_PER_REFINEMENT = 20
-#: Pattern search steps along the self-motion [rad or m]: first, largest and smallest.
-_FIRST_STEP = 0.2
+#: ... each with at most this many trial configurations (along the self-motion of the
+#: joints that move the cue: turning the cue about its own axis changes no ratio), enough to
+#: halve the step from the first to the smallest with both directions tried at each.
+_TRIALS_PER_REFINEMENT = 12
+#: A pattern-search trial succeeds only if it lowers the score by more than this fraction:
+#: smaller changes are rounding and IK-tolerance noise (about 1e-12), and letting them decide
+#: would make the search depend on the last bits of the LP solution.
+_TIE = 1e-9
+#: Pattern search steps along the self-motion [rad or m]: first, largest and smallest. The
+#: search starts coarse: the ratio along the self-motion can rise before it falls, and a
+#: start pinned at a joint limit may only improve a large step away.
+_FIRST_STEP = 0.4
 _LARGEST_STEP = 0.4
 _SMALLEST_STEP = 0.0125
 #: A joint within this fraction of its range from a position limit is near it, and ...
@@ -119,10 +141,14 @@ class _MinMaxRatio:
     r"""Smallest :math:`\max_i |y_i|` over the solutions of :math:`M y = b`.
 
     With :math:`y = y_0 + N z` (:math:`y_0` the minimum-norm solution, N an orthonormal basis
-    of the null space of M) the equalities hold by construction, and HiGHS solves the LP in
-    (z, s): minimise s subject to :math:`-s \le y_0 + N z \le s`. The CasADi solvers are built
-    once per problem size and kept by this object, which lives for one call of the public
-    functions (nothing is shared between threads).
+    of the null space of M, k columns) the equalities hold by construction, and what is left is
+    the LP in (z, s): minimise s subject to :math:`-s \le y_0 + N z \le s`. For k <= 2 it is
+    solved exactly in NumPy by enumerating its vertices (:func:`_min_max_on_line`,
+    :func:`_min_max_on_plane`; a Sawyer cue on its line has k = 1 once its idle roll joint is
+    set aside, paddle4 k = 1, Sawyer elsewhere k = 2); otherwise HiGHS solves it through
+    CasADi, with solvers built once per problem size and kept by this object, which lives for
+    one call of the public functions (nothing is shared between threads). Among several
+    minimisers the one of least norm is returned.
     """
 
     def __init__(self) -> None:
@@ -132,7 +158,7 @@ class _MinMaxRatio:
         if (n, k) not in self._solvers:
             highs = {
                 "output_flag": False,
-                "presolve": "off",  # a 3-variable LP: presolve only costs time
+                "presolve": "off",  # a small LP: presolve only costs time
                 "primal_feasibility_tolerance": _LP_TOLERANCE,
                 "dual_feasibility_tolerance": _LP_TOLERANCE,
             }
@@ -146,17 +172,52 @@ class _MinMaxRatio:
 
     def __call__(self, M: FloatArray, b: FloatArray) -> FloatArray | None:
         """The minimiser y, shape (n,), or None when ``M y = b`` has no solution."""
-        n = M.shape[1]
-        U, S, Vt = np.linalg.svd(M)
-        rank = int(np.sum(_RANK_TOLERANCE * S[0] < S)) if S.size and S[0] > 0.0 else 0
-        y0 = Vt[:rank].T @ ((U[:, :rank].T @ b) / S[:rank])
-        scale = float(np.linalg.norm(b)) + (float(S[0] * np.linalg.norm(y0)) if rank else 0.0)
-        if float(np.linalg.norm(M @ y0 - b)) > _RESIDUAL_TOLERANCE * scale:
+        idle = _idle_columns(M)
+        if not np.count_nonzero(idle):
+            return self._solve(M, b)
+        # Idle joints stay still (see _IDLE_COLUMN): solve for the others.
+        moving = ~idle
+        y = np.zeros(M.shape[1])
+        if not np.count_nonzero(moving):  # nothing moves: only b = 0 has a solution
+            return None if np.count_nonzero(b) else y
+        inner = self._solve(M[:, moving], b)
+        if inner is None:
             return None
+        y[moving] = inner
+        return y
+
+    def _solve(self, M: FloatArray, b: FloatArray) -> FloatArray | None:
+        U, S, Vt = np.linalg.svd(M)
+        singular_values = S.tolist()
+        largest = singular_values[0] if singular_values else 0.0
+        rank = sum(value > _RANK_TOLERANCE * largest for value in singular_values)
+        y0 = Vt[:rank].T @ ((U[:, :rank].T @ b) / S[:rank])
+        if rank < M.shape[0]:  # with full row rank every b has a solution
+            scale = math.sqrt(b @ b) + (largest * math.sqrt(y0 @ y0) if rank else 0.0)
+            residual = M @ y0 - b
+            if math.sqrt(residual @ residual) > _RESIDUAL_TOLERANCE * scale:
+                return None
         null = Vt[rank:].T  # (n, k)
         k = null.shape[1]
-        if k == 0 or not np.any(y0):
+        if k == 0 or not np.count_nonzero(y0):
             return y0
+        if k == 1:
+            return _min_max_on_line(y0, null[:, 0])
+        if k == 2:
+            return _min_max_on_plane(y0, null)
+        return self.highs(y0, null)
+
+    def highs(self, y0: FloatArray, null: FloatArray) -> FloatArray:
+        r"""The minimiser of :math:`\max_i |y_0 + N z|_i` by HiGHS, shape (n,).
+
+        Args:
+            y0: Offset, shape (n,).
+            null: N, shape (n, k), orthonormal columns, k >= 1.
+
+        Raises:
+            SolverError: HiGHS fails (not expected: the LP is always feasible and bounded).
+        """
+        n, k = null.shape
         ones = np.ones((n, 1))
         solver = self._solver(n, k)
         out = solver(
@@ -173,6 +234,124 @@ class _MinMaxRatio:
         return y0 + null @ np.asarray(out["x"]).ravel()[:k]
 
 
+# The LP in (z, s) behind _MinMaxRatio: minimise s subject to -s <= y0 + N z <= s, N of full
+# column rank k. Its feasible set contains no line, so the optimum s* is attained at a vertex,
+# where k + 1 constraints are active, on distinct rows r_0..r_k with signs sigma_j: two on one
+# row would force s = 0, hence y0 = 0, which the caller handles. The sign of r_0 can be taken
+# +1 (the opposite signs give the same z with -s), and eliminating s leaves the k equations
+# (e_r0 - sigma_j e_rj)^T (y0 + N z) = 0. Every such candidate is solved for in closed form
+# and max_i |y0 + N z|_i evaluated there; the smallest value is s*, since the optimal vertex is
+# a candidate and any z gives an upper bound. Candidates with singular equations are skipped.
+#
+# The minimisers can be more than one point (paddle4 moving its paddle straight up leaves
+# three joints free within the ratio of the fourth). Of them the one nearest z = 0 is
+# returned, which is the joint velocity of least norm (y0 is orthogonal to N).
+
+
+@functools.cache
+def _line_candidates(n: int) -> FloatArray:
+    r"""Equations of the 2 C(n, 2) candidate vertices for k = 1, shape (c, n).
+
+    Row i is :math:`e_{r_0} - \sigma e_{r_1}` of candidate i, which therefore solves
+    :math:`(P_i d) z = -P_i y_0`.
+    """
+    pairs = list(itertools.combinations(range(n), 2))
+    operator = np.zeros((2 * len(pairs), n))
+    for i, (first, second) in enumerate(pairs):
+        operator[2 * i : 2 * i + 2, first] = 1.0
+        operator[2 * i, second] = -1.0
+        operator[2 * i + 1, second] = 1.0
+    operator.setflags(write=False)
+    return operator
+
+
+def _min_max_on_line(y0: FloatArray, direction: FloatArray) -> FloatArray:
+    r"""The least-norm minimiser of :math:`\max_i |y_0 + z d|_i` over the scalar z.
+
+    Args:
+        y0: Offset, nonzero, orthogonal to d, shape (n,).
+        direction: d, a unit vector, shape (n,).
+
+    Returns:
+        The minimiser :math:`y_0 + z d`, shape (n,).
+    """
+    operator = _line_candidates(y0.size)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        z = -(operator @ y0) / (operator @ direction)
+        worst = np.abs(direction[:, None] * z + y0[:, None]).max(axis=0)
+    worst[~(worst < math.inf)] = math.inf  # singular candidates (and their NaNs)
+    optimal = z[worst <= float(worst.min()) * (1.0 + 1e-12)]
+    # The minimisers form an interval whose ends are optimal vertices: take 0 if it is inside.
+    return y0 + min(max(0.0, float(optimal.min())), float(optimal.max())) * direction
+
+
+@functools.cache
+def _plane_candidates(n: int) -> FloatArray:
+    r"""Equations of the 4 C(n, 3) candidate vertices for k = 2, shape (2 c, n).
+
+    Row j c + i is :math:`e_{r_0} - \sigma_j e_{r_j}` of candidate i, which therefore solves
+    :math:`(P_i N) z = -P_i y_0` (P_i its two rows).
+    """
+    triples = list(itertools.combinations(range(n), 3))
+    signs = list(itertools.product((1.0, -1.0), repeat=2))
+    count = len(triples) * len(signs)
+    operator = np.zeros((2, count, n))
+    for i, (rows, sign) in enumerate(itertools.product(triples, signs)):
+        for j in range(2):
+            operator[j, i, rows[0]] += 1.0
+            operator[j, i, rows[j + 1]] -= sign[j]
+    flat = operator.reshape(2 * count, n)
+    flat.setflags(write=False)
+    return flat
+
+
+def _min_max_on_plane(y0: FloatArray, null: FloatArray) -> FloatArray:
+    r"""The least-norm minimiser of :math:`\max_i |y_0 + N z|_i` over z in the plane.
+
+    The minimisers form a convex polygon (usually a single vertex). Its point nearest z = 0
+    is z = 0, the foot of z = 0 on a line where one constraint is active at s*, or one of
+    its vertices: of those feasible (within 1e-12 of s*, relative), the nearest is taken.
+
+    Args:
+        y0: Offset, nonzero, orthogonal to the columns of N, shape (n,).
+        null: N, shape (n, 2), orthonormal columns.
+
+    Returns:
+        The minimiser :math:`y_0 + N z`, shape (n,).
+    """
+    operator = _plane_candidates(y0.size)
+    rows = operator @ np.column_stack([null, y0])  # [P_ij N | P_ij y0] in row j c + i
+    count = rows.shape[0] // 2
+    (a, b, e0), (c, d, e1) = rows[:count].T, rows[count:].T
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        det = a * d - b * c
+        z = np.column_stack([(b * e1 - d * e0) / det, (c * e0 - a * e1) / det])
+        worst = np.abs(null @ z.T + y0[:, None]).max(axis=0)
+    worst[~(worst < math.inf)] = math.inf  # singular candidates (and their NaNs)
+    index = int(np.argmin(worst))
+    best = float(worst[index])
+    allowed = best * (1.0 + 1e-12)
+    optimal = z[worst <= allowed]
+    if np.abs(optimal - z[index]).max() <= 1e-12 * (1.0 + np.abs(z[index]).max()):
+        return y0 + null @ z[index]  # a single minimiser (all its candidates coincide)
+    length2 = (null * null).sum(axis=1)
+    usable = length2 > 0.0
+    feet = [
+        ((level - y0[usable]) / length2[usable])[:, None] * null[usable] for level in (best, -best)
+    ]
+    points = np.concatenate([np.zeros((1, 2)), *feet, optimal])
+    values = np.abs(null @ points.T + y0[:, None]).max(axis=0)
+    norms = (points * points).sum(axis=1)
+    norms[~(values <= allowed)] = math.inf
+    return y0 + null @ points[int(np.argmin(norms))]
+
+
+def _idle_columns(rows: FloatArray) -> NDArray[np.bool_]:
+    """Columns shorter than :data:`_IDLE_COLUMN` times the longest (all if every one is 0)."""
+    lengths = (rows * rows).sum(axis=0)
+    return lengths <= _IDLE_COLUMN**2 * lengths.max()
+
+
 def _across(direction: FloatArray) -> FloatArray:
     """Two unit vectors completing ``direction`` to an orthonormal basis, shape (2, 3)."""
     helper = np.eye(3)[int(np.argmin(np.abs(direction)))]
@@ -186,7 +365,7 @@ def _task_rows(robot: Robot, q: FloatArray, offset: float, across: FloatArray | 
 
     Shape (3, n), or (5, n) with the two ``across`` rows.
     """
-    jac = robot.jacobian(q)
+    jac = pin.computeFrameJacobian(robot.model, robot.data, q, robot.tool_frame_id, _WORLD_ALIGNED)
     rows = jac[:3]
     if offset != 0.0:
         lever = offset * robot.tool_pose(q)[:3, 2]
@@ -251,7 +430,8 @@ def twist_ratio(
         \min_{\dot q} \max_i \frac{|\dot q_i|}{\dot q_{\max,i}} \quad \text{s.t.} \quad
         J_p \dot q = v\, d, \quad e_1^T J_\omega \dot q = e_2^T J_\omega \dot q = 0
 
-    exactly (HiGHS through CasADi). The ratio is linear in the speed.
+    exactly: in NumPy, returning the least-norm optimal joint velocity, when A has a null space
+    of one or two dimensions; else by HiGHS through CasADi. The ratio is linear in the speed.
 
     Args:
         robot: The robot.
@@ -314,13 +494,7 @@ class _Window:
     binding: tuple[int, ...]  # binding joints where the largest ratio occurs
     binding_qd1: FloatArray  # the joint velocity at unit speed there [rad/m]
     score: float  # r1 raised by the joint-limit penalty, for ranking
-
-
-def _closeness(limits: JointLimits, q: FloatArray) -> float:
-    """How deep the joint nearest a position limit is in the zone near it: 0 outside, 1 on it."""
-    span = limits.upper - limits.lower
-    clearance = np.minimum(q - limits.lower, limits.upper - q)
-    return float(np.max(np.clip(1.0 - clearance / (_LIMIT_ZONE * span), 0.0, 1.0)))
+    order: tuple[int, ...]  # places (0 contact, 1 entry, 2 exit): largest ratio, nearest limit
 
 
 class _PoolSearch:
@@ -333,58 +507,99 @@ class _PoolSearch:
         self.direction = np.asarray(problem.direction, dtype=float)
         self.across = _across(self.direction)
         self.velocity_limit = np.asarray(self.limits.velocity, dtype=float)
+        self.lower = np.asarray(self.limits.lower, dtype=float)
+        self.upper = np.asarray(self.limits.upper, dtype=float)
+        self.zone = _LIMIT_ZONE * (self.upper - self.lower)
+        # The task rows of the LP are these rows of the Jacobian: point velocity (the first
+        # three) and angular velocity along the two directions across the line.
+        self.select = np.zeros((5, 6))
+        self.select[:3, :3] = np.eye(3)
+        self.select[3:, 3:] = self.across
+        self.target = np.r_[self.direction, 0.0, 0.0]
         self.lp = _MinMaxRatio()
         self.evaluated = 0
-
-    def _near(self, point: FloatArray, q: FloatArray) -> FloatArray | None:
-        """The IK solution with the cue tip at ``point`` on the line reached from q, if any."""
-        try:
-            found = solve_ik(self.robot, point, axis=self.direction, q_near=q, restarts=0).q
-        except UnreachableError:
-            return None
-        return found if self.limits.contains(found) else None
-
-    def _ratio(self, q: FloatArray) -> tuple[float, FloatArray]:
-        return _unit_ratio(
-            self.lp, self.robot, q, self.direction, self.velocity_limit, 0.0, self.across
+        # solve_ik(robot, point, axis=direction, q_near=q, restarts=0) for each point of the line
+        self.to_contact, self.to_entry, self.to_exit = (
+            LocalIK(self.robot, point, axis=self.direction)
+            for point in (problem.contact_point, problem.entry_point, problem.exit_point)
         )
 
-    def window(self, q: FloatArray, bound: float = math.inf) -> _Window | None:
+    def _inside(self, q: FloatArray) -> bool:
+        """Whether q lies within the problem's position limits."""
+        inside = np.count_nonzero(q >= self.lower) + np.count_nonzero(q <= self.upper)
+        return inside == 2 * q.size
+
+    def _closeness(self, q: FloatArray) -> float:
+        """How deep the joint nearest a position limit is in the zone near it: 0 outside, 1 on.
+
+        The zone of a joint is the last :data:`_LIMIT_ZONE` of its range at either end.
+        """
+        clearance = np.minimum(q - self.lower, self.upper - q)
+        # The deepest joint is the one with the least clearance relative to its zone.
+        return min(1.0, max(0.0, 1.0 - float((clearance / self.zone).min())))
+
+    def _near(self, ik: LocalIK, q: FloatArray) -> FloatArray | None:
+        """The IK solution for one point of the line reached from q, if any (within limits)."""
+        found = ik(q)
+        return found if found is not None and self._inside(found) else None
+
+    def _ratio(self, q: FloatArray) -> tuple[float, FloatArray]:
+        """:func:`_unit_ratio` at q for the strike direction, the cue held on the line."""
+        robot = self.robot
+        jac = pin.computeFrameJacobian(
+            robot.model, robot.data, q, robot.tool_frame_id, _WORLD_ALIGNED
+        )
+        y = self.lp((self.select @ jac) * self.velocity_limit, self.target)
+        if y is None:
+            return math.inf, np.full(q.size, np.nan)
+        return float(np.abs(y).max()), y * self.velocity_limit
+
+    def window(
+        self, q: FloatArray, bound: float = math.inf, order: tuple[int, ...] = (0, 1, 2)
+    ) -> _Window | None:
         """Evaluate contact configuration q (with the cue on the line at the contact point).
 
         Returns None when the line's entry or exit cannot be reached near q, or when the
-        window's largest ratio cannot be below a finite ``bound`` (checked as each ratio
-        comes in, so a poor trial is dropped after one LP).
+        window's score cannot be below a finite ``bound``: checked as each configuration
+        comes in against the largest ratio so far raised by the limit penalty of the
+        configurations so far (a lower bound of the score), so a poor trial is dropped after
+        one LP. ``order`` lists the places (0 contact, 1 entry, 2 exit) in the order they are
+        evaluated: where the window that set the bound had its largest ratio and the joint
+        nearest a limit prunes a poor trial soonest. The pruning and the order change nothing
+        else.
         """
         self.evaluated += 1
-        if not self.limits.contains(q):
+        if not self._inside(q):
             return None
         prune = math.isfinite(bound)  # with no bound, a singular candidate is kept (r1 = inf)
-        r1, qd1 = self._ratio(q)
-        if prune and r1 >= bound:
-            return None
-        configs = [q]
-        worst = (r1, qd1)
-        for point in (self.problem.entry_point, self.problem.exit_point):
-            end = self._near(point, q)
-            if end is None:
+        # Per place (contact, entry, exit), each filled in when the place is evaluated.
+        configs: list[FloatArray] = [q, q, q]
+        ratios = [0.0, 0.0, 0.0]
+        velocities: list[FloatArray] = [q, q, q]
+        near_limit = [self._closeness(q), 0.0, 0.0]
+        for place in order:
+            if place > 0:
+                end = self._near(self.to_entry if place == 1 else self.to_exit, q)
+                if end is None:
+                    return None
+                configs[place] = end
+                near_limit[place] = self._closeness(end)
+            closeness = max(near_limit)
+            ratios[place], velocities[place] = self._ratio(configs[place])
+            if prune and max(ratios) * (1.0 + _LIMIT_PENALTY * closeness) >= bound:
                 return None
-            ratio, qd = self._ratio(end)
-            if prune and ratio >= bound:
-                return None
-            configs.append(end)
-            if ratio > worst[0]:
-                worst = (ratio, qd)
-        closeness = max(_closeness(self.limits, c) for c in configs)
+        worst = max(range(3), key=ratios.__getitem__)  # the earliest place on a tie
+        tightest = max(range(3), key=near_limit.__getitem__)
         return _Window(
             q=q,
             q_entry=configs[1],
             q_exit=configs[2],
-            r1=worst[0],
-            qd1=qd1,
-            binding=tuple(_binding(worst[1], self.velocity_limit)),
-            binding_qd1=worst[1],
-            score=worst[0] * (1.0 + _LIMIT_PENALTY * closeness),
+            r1=ratios[worst],
+            qd1=velocities[0],
+            binding=tuple(_binding(velocities[worst], self.velocity_limit)),
+            binding_qd1=velocities[worst],
+            score=ratios[worst] * (1.0 + _LIMIT_PENALTY * near_limit[tightest]),
+            order=tuple(dict.fromkeys((worst, tightest, 0, 1, 2))),
         )
 
     def improve(self, start: _Window, trials: int) -> _Window:
@@ -392,26 +607,32 @@ class _PoolSearch:
 
         The self-motion keeps the cue tip on the contact point with the cue on the line; to
         first order it is the null space of the 5 task rows (the same rows as the LP's).
-        Steps of size h along the two null-space directions and their opposites are tried,
-        the last successful direction first; a success moves there and doubles h, a failure
-        halves it. Each trial is projected back with IK.
+        Joints whose column of the rows vanishes (:func:`_idle_columns`: Sawyer's last joint,
+        which turns the cue about its own axis) are left out: moving them changes no ratio.
+        Steps of size h along the remaining null-space directions and their opposites are
+        tried, the last successful direction first; a success (a score lower by more than
+        :data:`_TIE`, relative) moves there and doubles h, a failure halves it. Each trial is
+        projected back with IK.
         """
         current, step, last = start, _FIRST_STEP, None
         while step >= _SMALLEST_STEP and trials > 0:
             rows = _task_rows(self.robot, current.q, 0.0, self.across)
-            null = np.linalg.svd(rows)[2][rows.shape[0] :]
+            moving = ~_idle_columns(rows)
+            null = np.zeros((max(int(moving.sum()) - rows.shape[0], 0), rows.shape[1]))
+            null[:, moving] = np.linalg.svd(rows[:, moving])[2][rows.shape[0] :]
             moves = [*null, *(-null)]
             if last is not None:
                 moves.sort(key=lambda move: -float(move @ last))
             moved = False
+            bound = current.score * (1.0 - _TIE)
             for move in moves:
                 if trials == 0:
                     break
                 trials -= 1
-                guess = self.limits.clip(current.q + step * move)
-                q = self._near(self.problem.contact_point, guess)
-                trial = None if q is None else self.window(q, bound=current.score)
-                if trial is not None and trial.score < current.score:
+                guess = np.clip(current.q + step * move, self.lower, self.upper)
+                q = self._near(self.to_contact, guess)
+                trial = None if q is None else self.window(q, bound, current.order)
+                if trial is not None and trial.score < bound:
                     last = (trial.q - current.q) / np.linalg.norm(trial.q - current.q)
                     current, moved = trial, True
                     break
@@ -445,7 +666,7 @@ def choose_contact(
     Args:
         problem: A :class:`problems.PoolStrike` or :class:`problems.PaddleStrike`.
         candidates: IK solutions to collect for a pool strike (>= 1); more search wider and
-            take longer (about 5 ms each on Sawyer, where the whole choice takes about 0.2 s
+            take longer (about 1.5 ms each on Sawyer, where the whole choice takes about 35 ms
             with the defaults).
         seed: Seed of the IK's random restarts (the result is reproducible).
         margin: Fraction of the velocity limits kept in reserve, in [0, 1): the strike is
@@ -522,6 +743,7 @@ def _rank_pool(
         min_solutions=candidates,
         restarts=_RESTARTS_PER_CANDIDATE * candidates,
         seed=seed,
+        abandon_stalled=True,
     )
     starts = [np.asarray(problem.q_contact, dtype=float)]
     starts += [q for q in ik.solutions if min(np.linalg.norm(q - s) for s in starts) > 1e-9]

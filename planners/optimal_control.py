@@ -122,8 +122,14 @@ SOLVERS = ("ipopt", "fatrop", "sqpmethod", "blocksqp", "bonmin", "knitro", "snop
 TORQUE_WATCH = 0.9
 #: Rounds of solve, verify, refine.
 ROUNDS = 4
-#: Weight of the term that keeps neighbouring intervals of a free phase alike [-].
+#: Weight of the term that keeps neighbouring intervals of a free phase alike [-]: small, so
+#: that the nodes of a minimum-time joint move can sit on its jerk switches (within 0.2 % of
+#: the lower bound; 1.0 leaves some 0.2 % above it).
 GRID_WEIGHT = 1e-2
+#: The same weight in a pool strike. Measured on 20 benchmark shots (IPOPT, minimum time):
+#: 1e-2 gave a median NLP time of 284 ms (p95 815 ms); 1.0 gave 161 ms (p95 272 ms) for
+#: motions 0.3 % longer; a uniform grid (``free_grid=False``) 128 ms for 1.2 % longer.
+STRIKE_GRID_WEIGHT = 1.0
 #: Shortest interval of a free phase [s].
 MIN_INTERVAL = 1e-4
 #: Most intervals of a strike phase after refinement.
@@ -483,7 +489,7 @@ class OptimalControl:
             weights = {"jerk": 1.0}  # nothing to shorten: the smoothest motion in the time
         if self.regularization > 0.0:
             weights["jerk"] = weights.get("jerk", 0.0) + self.regularization
-            weights["grid"] = GRID_WEIGHT
+            weights["grid"] = GRID_WEIGHT if spec.strike_phase < 0 else STRIKE_GRID_WEIGHT
             if robot.dof >= 7:
                 weights["posture"] = self.regularization
         return weights

@@ -143,7 +143,9 @@ def test_demo_tracks_the_plan_with_both_controllers(demo):
         tool, line, speed, count, worst, step = map(float, cells)
         assert 0.0 < line <= tool < 20.0  # [mm]
         assert 0.0 <= speed < 10.0  # [%]
-        assert count == 0 and worst <= 1.0 and step > 0.0
+        assert step > 0.0 and worst > 0.0
+        if label == "differential-IK QP":  # never beyond a limit; the pseudo-inverse may be
+            assert count == 0 and worst <= 1.0
 
 
 def test_demo_writes_plots_and_plans_that_check(demo, capsys):

@@ -8,6 +8,7 @@ from conftest import ALL_ROBOTS, get_robot
 
 from optraj.errors import InvalidInputError, UnknownNameError, UnreachableError
 from robots import solve_ik
+from robots.ik import LocalIK
 
 
 @pytest.mark.parametrize("name", ALL_ROBOTS)
@@ -131,3 +132,59 @@ def test_axis_target_leaves_roll_free():
         got = robot.tool_pose(solution.q)
         np.testing.assert_allclose(got[:3, 3], T[:3, 3], atol=1e-6)
         np.testing.assert_allclose(got[:3, 2], T[:3, 2], atol=1e-6)
+
+
+@pytest.mark.parametrize("name", ["sawyer", "youbot"])
+def test_local_ik_is_solve_ik_without_restarts(name):
+    robot = get_robot(name)
+    rng = np.random.default_rng(41)
+    converged = failed = 0
+    for trial in range(60):
+        T = robot.tool_pose(robot.random_configurations(1, rng)[0])
+        # Reachable targets, and every third one moved off by a few centimetres.
+        target = T[:3, 3] + (rng.normal(scale=0.05, size=3) if trial % 3 == 0 else 0.0)
+        start = robot.random_configurations(1, rng)[0]
+        local = LocalIK(robot, target, axis=T[:3, 2])
+        try:
+            expected = solve_ik(robot, target, axis=T[:3, 2], q_near=start, restarts=0).q
+        except UnreachableError:
+            expected = None
+        got = local(start)
+        if expected is None:
+            assert got is None
+            failed += 1
+        else:
+            np.testing.assert_array_equal(got, expected)
+            converged += 1
+    assert converged >= 10 and failed >= 1
+
+
+def test_local_ik_checks_its_target_once():
+    robot = get_robot("sawyer")
+    with pytest.raises(InvalidInputError, match="axis must be non-zero"):
+        LocalIK(robot, [0.5, 0.0, 0.2], axis=[0.0, 0.0, 0.0])
+    with pytest.raises(InvalidInputError, match="tolerance"):
+        LocalIK(robot, [0.5, 0.0, 0.2], tolerance=0.1)
+    with pytest.raises(InvalidInputError, match=r"robots\.Robot"):
+        LocalIK("sawyer", [0.5, 0.0, 0.2])
+
+
+def test_abandoning_stalled_restarts_saves_iterations_and_keeps_solutions_valid():
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(43)
+    saved = 0
+    for seed in range(4):
+        T = robot.tool_pose(robot.random_configurations(1, rng)[0])
+        kwargs = {"axis": T[:3, 2], "min_solutions": 8, "restarts": 24, "seed": seed}
+        full = solve_ik(robot, T[:3, 3], **kwargs)
+        quick = solve_ik(robot, T[:3, 3], abandon_stalled=True, **kwargs)
+        saved += full.iterations - quick.iterations
+        for q in quick.solutions:
+            pose = robot.tool_pose(q)
+            np.testing.assert_allclose(pose[:3, 3], T[:3, 3], rtol=0, atol=1e-9)
+            np.testing.assert_allclose(pose[:3, 2], T[:3, 2], rtol=0, atol=1e-9)
+            assert robot.limits.contains(q)
+        # Reproducible for a seed, like every solve_ik.
+        again = solve_ik(robot, T[:3, 3], abandon_stalled=True, **kwargs)
+        np.testing.assert_array_equal(again.solutions, quick.solutions)
+    assert saved > 0  # stalled restarts were given up early
