@@ -510,12 +510,6 @@ class _PoolSearch:
         self.lower = np.asarray(self.limits.lower, dtype=float)
         self.upper = np.asarray(self.limits.upper, dtype=float)
         self.zone = _LIMIT_ZONE * (self.upper - self.lower)
-        # The task rows of the LP are these rows of the Jacobian: point velocity (the first
-        # three) and angular velocity along the two directions across the line.
-        self.select = np.zeros((5, 6))
-        self.select[:3, :3] = np.eye(3)
-        self.select[3:, 3:] = self.across
-        self.target = np.r_[self.direction, 0.0, 0.0]
         self.lp = _MinMaxRatio()
         self.evaluated = 0
         # solve_ik(robot, point, axis=direction, q_near=q, restarts=0) for each point of the line
@@ -545,14 +539,9 @@ class _PoolSearch:
 
     def _ratio(self, q: FloatArray) -> tuple[float, FloatArray]:
         """:func:`_unit_ratio` at q for the strike direction, the cue held on the line."""
-        robot = self.robot
-        jac = pin.computeFrameJacobian(
-            robot.model, robot.data, q, robot.tool_frame_id, _WORLD_ALIGNED
+        return _unit_ratio(
+            self.lp, self.robot, q, self.direction, self.velocity_limit, 0.0, self.across
         )
-        y = self.lp((self.select @ jac) * self.velocity_limit, self.target)
-        if y is None:
-            return math.inf, np.full(q.size, np.nan)
-        return float(np.abs(y).max()), y * self.velocity_limit
 
     def window(
         self, q: FloatArray, bound: float = math.inf, order: tuple[int, ...] = (0, 1, 2)

@@ -69,8 +69,12 @@ class _Attempt:
     position_error: float
     orientation_error: float
     iterations: int
-    converged: bool  # both errors within the tolerance
     stalled: bool = False  # given up early (see _levenberg_marquardt)
+
+    @property
+    def worst_error(self) -> float:
+        """The larger of the position [m] and orientation [rad or -] errors."""
+        return max(self.position_error, self.orientation_error)
 
 
 #: Entries of a row-major 4 x 4 homogeneous transform: the origin, then the z axis.
@@ -175,13 +179,12 @@ def _levenberg_marquardt(
     damping = 1e-3
     iteration = 0
     history: list[float] = []
-    converged = stalled = False
+    stalled = False
     errors = None  # (position, orientation) errors of the current residual, once computed
     while iteration < max_iterations:
         if cost <= not_yet:
             errors = problem.errors(residual)
             if max(errors) <= tolerance:
-                converged = True
                 break
         if stall:
             error = math.sqrt(cost)
@@ -229,9 +232,7 @@ def _levenberg_marquardt(
             break  # no step lowers the error: a local minimum or a limit blocks the way
     if errors is None:
         errors = problem.errors(residual)
-    if not converged and not stalled:
-        converged = max(errors) <= tolerance
-    return _Attempt(q, errors[0], errors[1], iteration, converged, stalled)
+    return _Attempt(q, errors[0], errors[1], iteration, stalled)
 
 
 class LocalIK:
@@ -283,7 +284,7 @@ class LocalIK:
         """
         start = np.minimum(np.maximum(q_start, self._lower), self._upper)
         attempt = _levenberg_marquardt(self._problem, start, self.tolerance, self.max_iterations)
-        return attempt.q if attempt.converged else None
+        return attempt.q if attempt.worst_error <= self.tolerance else None
 
 
 def _unit_axis(axis: ArrayLike) -> FloatArray:
@@ -401,9 +402,6 @@ def solve_ik(
     rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
     reference = robot.home if q_near is None else as_vector(q_near, "q_near", robot.dof)
 
-    def worst_error(attempt: _Attempt) -> float:
-        return max(attempt.position_error, attempt.orientation_error)
-
     # A full-pose attempt first places the frame's origin, then its orientation: from a random
     # start this lands in the basin of a true solution more often than solving both at once
     # (on hard 5-DOF youBot targets, 26% of starts instead of 18%).
@@ -423,13 +421,13 @@ def solve_ik(
                 position_error, orientation_error = problem.errors(
                     problem.residual(robot.data, located.q)[0]
                 )
-                attempt = _Attempt(located.q, position_error, orientation_error, 0, False, True)
+                attempt = _Attempt(located.q, position_error, orientation_error, 0, stalled=True)
             start = located.q
         if attempt is None:
             give_up = bool(abandon_stalled) and bool(attempts)  # never the first attempt
             attempt = _levenberg_marquardt(problem, start, tol, max_iterations, stall=give_up)
         attempts.append(attempt)
-        if worst_error(attempt) <= tol and all(
+        if attempt.worst_error <= tol and all(
             np.linalg.norm(attempt.q - other.q) > 1e-6 for other in found
         ):
             found.append(attempt)
@@ -438,7 +436,7 @@ def solve_ik(
         start = robot.random_configurations(1, rng)[0]
     iterations = sum(attempt.iterations for attempt in attempts)
     if not found:
-        best = min(attempts, key=worst_error)
+        best = min(attempts, key=lambda attempt: attempt.worst_error)
         what = "pose" if rotation is not None else "position and axis" if full else "position"
         raise UnreachableError(
             f"robot {robot.name!r}: no configuration within the joint limits reaches the target "
