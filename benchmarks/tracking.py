@@ -185,49 +185,92 @@ def pink_stepper(robot: Robot) -> Callable[[controllers.State, controllers.Refer
     return step
 
 
-def timing_table(robot: Robot, traj: Trajectory, repeats: int) -> list[str]:
-    """Controller time per step on the states of one run, every controller in turn."""
+def recorded_steps(
+    robot: Robot, traj: Trajectory
+) -> list[tuple[controllers.State, controllers.Reference]]:
+    """The (state, reference) of every step of one closed-loop run of the QP."""
     recorded = simulate(robot, traj, controllers.DiffIKQP(robot), DT, plant="dynamic")
-    states = [
-        controllers.State(float(t), q, qd)
-        for t, q, qd in zip(recorded.t[:-1], recorded.q[:-1], recorded.qd[:-1], strict=True)
+    return [
+        (
+            controllers.State(float(recorded.t[k]), recorded.q[k], recorded.qd[k]),
+            recorded.references[k],
+        )
+        for k in range(len(recorded.t) - 1)
     ]
-    references = [recorded.references[k] for k in range(len(states))]
-    timed: dict[str, list[float]] = {}
-    steppers: list[tuple[str, Callable[[controllers.State, controllers.Reference], Any]]] = []
-    for label, controller in controllers_to_compare(robot):
-        controller.reset(states[0])
-        steppers.append((label, lambda s, r, c=controller: c.step(s, r, DT)))
+
+
+def timing_table(robot: Robot, planned: dict[str, Trajectory], repeats: int) -> list[str]:
+    """Controller time per step on the states of recorded runs, every controller in turn.
+
+    Every controller replays the nominal run; the QP also replays the run on the full limits,
+    where its bounds bind and its active set changes more often.
+    """
+    nominal = recorded_steps(robot, planned["nominal"])
+    full = recorded_steps(robot, planned["full"])
+    compared = controllers_to_compare(robot)
+    qp_controller = next(c for _, c in compared if isinstance(c, controllers.DiffIKQP))
+    qp_label = "differential-IK QP"
+    cases: list[tuple[str, controllers.Controller | None, list[Any]]] = [
+        (label, controller, nominal) for label, controller in compared
+    ]
+    cases.append((f"{qp_label}, run on the full limits", qp_controller, full))
     pink_step = pink_stepper(robot)
     if pink_step is not None:
-        steppers.append(("pink solve_ik (OSQP)", pink_step))
+        cases.append(("pink solve_ik (OSQP)", None, nominal))
+    timed: dict[str, list[float]] = {}
+    paths: dict[str, list[str]] = {}  # how each QP step was solved
     with warnings.catch_warnings():
         # Through pink, qpsolvers warns on every call that it converts dense matrices to
         # sparse ones, and osqp that a default will change.
         warnings.filterwarnings("ignore", module="qpsolvers")
         warnings.filterwarnings("ignore", module="osqp")
         for _ in range(repeats):  # interleaved, so that machine noise hits every row alike
-            for label, stepper in steppers:
+            for label, controller, steps in cases:
                 times = timed.setdefault(label, [])
-                for state, reference in zip(states, references, strict=True):
+                if controller is not None:
+                    controller.reset(steps[0][0])
+                for state, reference in steps:
                     started = time.perf_counter()
-                    stepper(state, reference)
+                    if controller is None:
+                        pink_step(state, reference)  # type: ignore[misc]
+                    else:
+                        controller.step(state, reference, DT)
                     times.append(time.perf_counter() - started)
-    qp = statistics.median(timed["differential-IK QP"])
+                    if controller is qp_controller:
+                        solver = qp_controller.diagnostics.get("solver", "fallback")
+                        paths.setdefault(label, []).append(solver)
+    qp = statistics.median(timed[qp_label])
     lines = [
         "",
         "## Controller time per step",
         "",
-        f"Sawyer (7 joints), the {len(states)} states of one nominal run replayed {repeats} "
-        "times, each step including the tool pose and Jacobian. Goal for the QP: 20 us median.",
+        f"Sawyer (7 joints), the {len(nominal)} states of one nominal run replayed {repeats} "
+        "times, each step including the tool pose and Jacobian; for the QP also the "
+        f"{len(full)} states of the same shot's run on the full limits. Goal for the QP: "
+        "20 us median.",
         "",
-        "| controller | median [us] | p95 [us] | vs QP |",
-        "|---|---|---|---|",
+        "| controller | median [us] | p95 [us] | vs QP | QP steps solved by OSQP |",
+        "|---|---|---|---|---|",
     ]
     for label, times in timed.items():
         median = statistics.median(times)
         p95 = float(np.percentile(times, 95))
-        lines.append(f"| {label} | {1e6 * median:.1f} | {1e6 * p95:.1f} | {median / qp:.2f} |")
+        row = f"| {label} | {1e6 * median:.1f} | {1e6 * p95:.1f} | {median / qp:.2f} |"
+        if label in paths:
+            through = [t for t, p in zip(times, paths[label], strict=True) if p == "osqp"]
+            share = f"{len(through)}/{len(times)}"
+            if through:
+                share += f", {1e6 * statistics.median(through):.1f} us median"
+            row += f" {share} |"
+        else:
+            row += " |"
+        lines.append(row)
+    lines += [
+        "",
+        "A QP step first solves exactly on the last step's active set (one small linear",
+        "solve, kept only when it meets the optimality conditions); OSQP solves the steps",
+        "where the active set changes.",
+    ]
     if pink_step is None:
         lines += ["", "pin-pink is not installed: `pip install pin-pink` adds its row."]
     return lines
@@ -261,7 +304,7 @@ def main(argv: list[str] | None = None) -> int:
                 tallies[(condition, label)].record(result)
                 done += 1
                 progress(done, total, f"shot {index + 1}: {condition}"[:28])
-    timing = timing_table(robot, planned_shots[0]["nominal"], repeats=1 if args.quick else 3)
+    timing = timing_table(robot, planned_shots[0], repeats=1 if args.quick else 3)
     elapsed = time.perf_counter() - started
     lines = [
         "# Tracking pool strikes on Sawyer",

@@ -14,13 +14,14 @@ Also here: :func:`tool_kinematics`, the tool pose and Jacobian in one Pinocchio 
 
 from __future__ import annotations
 
+import math
 from typing import Literal
 
 import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
-from controllers.controller import Reference, as_gains, rotation_error
+from controllers.controller import Reference, as_gains, cross3, rotation_error
 from optraj.errors import UnknownNameError
 from robots import Robot
 
@@ -92,6 +93,7 @@ class CartesianPID:
         self.task = check_task(task)
         self._integrate = bool(self.ki.any())
         self._derivative = bool(self.kd.any())
+        self._integral_floor = -self.integral_limit
         self._integral = np.zeros(6)
 
     def reset(self) -> None:
@@ -114,9 +116,9 @@ class CartesianPID:
         error[:3] = reference.T_world_tool[:3, 3] - T_world_tool[:3, 3]
         if self.task == "axis":
             z, z_d = T_world_tool[:3, 2], reference.T_world_tool[:3, 2]
-            normal = np.cross(z, z_d)
-            sine = float(np.linalg.norm(normal))
-            angle = float(np.arctan2(sine, z @ z_d))
+            normal = cross3(z, z_d)
+            sine = math.sqrt(float(normal @ normal))
+            angle = math.atan2(sine, float(z @ z_d))
             error[3:] = normal * (angle / sine) if sine > 1e-12 else normal
         else:
             error[3:] = rotation_error(reference.T_world_tool[:3, :3], T_world_tool[:3, :3])
@@ -142,9 +144,8 @@ class CartesianPID:
         error = self.error(T_world_tool, reference)
         command = reference.twist + self.kp * error
         if self._integrate:
-            self._integral = np.clip(
-                self._integral + error * dt, -self.integral_limit, self.integral_limit
-            )
+            integral = np.maximum(self._integral + error * dt, self._integral_floor)
+            self._integral = np.minimum(integral, self.integral_limit, out=integral)
             command += self.ki * self._integral
         if self._derivative:
             command += self.kd * (reference.twist - J @ qd)

@@ -17,6 +17,15 @@ with :math:`v_{cmd}` from the same Cartesian PID law as
 sparse OSQP problem is set up once; each step only updates its numbers (``H``'s upper
 triangle, ``c`` and the bounds) and starts from the last solution.
 
+From one control step to the next the set of bounds that bind rarely changes. So a step first
+solves the QP exactly on the last step's active set, the bounds that bound then held as
+equalities and the other joints free: one small linear solve, accepted only when it meets
+every optimality condition (free joints within their bounds, the multipliers of the held ones
+pushing outwards). This is the QP's exact solution, not an approximation. When the guess fails
+the conditions (the active set changed), OSQP solves the step and its multipliers give the new
+active set. :attr:`DiffIKQP.diagnostics` says which path a step took. With extra constraint
+rows every step goes to OSQP.
+
 When OSQP does not return a solution within the bounds, the controller sends a safe command
 instead: the last command brought towards rest at the acceleration limit. It keeps the
 velocity and acceleration limits, and the braking room of the position bounds that held on the
@@ -33,6 +42,7 @@ import numpy as np
 import osqp
 import scipy.sparse as sparse
 from numpy.typing import ArrayLike, NDArray
+from scipy.linalg import lapack
 
 from controllers.cartesian_pid import CartesianPID, tool_kinematics
 from controllers.controller import Command, Controller, Reference, State
@@ -156,10 +166,12 @@ class DiffIKQP(Controller):
         # Pieces that do not change from step to step, built once.
         self._damping = damping_objective(robot.dof, self.damping)
         self._velocity = velocity_bounds(self.limits.velocity, self.velocity_scale)
-        self._pose_weights = task_weights(*self.weights)
+        self._pose_weights = np.diag(task_weights(*self.weights)).copy()  # W is diagonal
         self._solver: _Workspace | None = None
         self._last = np.zeros(robot.dof)
-        #: What the last step did: OSQP status and iterations, relaxed bounds, fallback.
+        self._active = _ActiveSet.none(robot.dof)
+        #: What the last step did: ``"solver"`` (``"active set"`` or ``"osqp"``), OSQP's
+        #: status and iterations, relaxed bounds, fallback.
         self.diagnostics: dict[str, Any] = {}
 
     def __getstate__(self) -> dict[str, Any]:
@@ -177,6 +189,7 @@ class DiffIKQP(Controller):
         self.pid.reset()
         self._solver = None
         self._last = np.array(state.qd, dtype=float)
+        self._active = _ActiveSet.none(self.robot.dof)
         self.diagnostics = {}
 
     # ------------------------------------------------------------------------------ build
@@ -220,21 +233,37 @@ class DiffIKQP(Controller):
         return command
 
     def solve(self, qp: QP, dt: float) -> Command:
-        """Solve an assembled QP with OSQP (set up on first use, then updated in place).
+        """Solve an assembled QP: exactly on the last active set, else with OSQP.
+
+        OSQP is set up on first use, then updated in place and warm started.
 
         Args:
             qp: From :meth:`build`.
             dt: Control period [s] (used by the fallback's deceleration).
         """
         n = qp.c.size
+        bounds_only = qp.A.shape[0] == n
+        if bounds_only:
+            x = self._active.solve(qp)
+            if x is not None:
+                self.diagnostics = {"solver": "active set", "relaxed": qp.relaxed}
+                return Command(x)
         if self._solver is None or self._solver.rows != qp.A.shape[0]:
             self._solver = _Workspace(qp, self.tolerance, self.max_iterations)
         solved, status, iterations, x, y = self._solver.solve(qp)
-        self.diagnostics = {"status": status, "iterations": iterations, "relaxed": qp.relaxed}
+        self.diagnostics = {
+            "solver": "osqp",
+            "status": status,
+            "iterations": iterations,
+            "relaxed": qp.relaxed,
+        }
         if not solved or not np.isfinite(x).all():
             return self._fallback(f"OSQP status {status!r}", dt)
-        if qp.A.shape[0] == n:  # bounds only: make the solution exact on its active set
-            x = _refine(qp, x, y, self.tolerance)
+        if bounds_only:  # make the solution exact on the active set OSQP found
+            self._active = _ActiveSet.from_multipliers(qp, y, self.tolerance)
+            exact = self._active.solve(qp)
+            if exact is not None:
+                return Command(exact)
         rows = qp.A @ x if qp.A.shape[0] > n else x  # every row, the bounds first
         finite_upper = np.where(np.isfinite(qp.upper), np.abs(qp.upper), 0.0)
         scale = np.maximum(1.0, finite_upper)
@@ -318,38 +347,67 @@ class _Workspace:
         return solved, str(info.status), int(info.iter), np.array(x), np.array(y)
 
 
-def _refine(qp: QP, x: FloatArray, y: FloatArray, tolerance: float) -> FloatArray:
-    """Solve the QP exactly on the active set OSQP found; OSQP's ``x`` if that set is wrong.
+class _ActiveSet:
+    """Which bounds hold as equalities, and the exact QP solution on them.
 
-    ADMM stops at a tolerance; along weakly weighted directions (a redundant arm's self-motion,
-    held only by the damping and posture terms) its ``x`` may be off by tolerance / weight.
-    With the active bounds fixed, the rest is one small linear solve, checked afterwards: the
-    free joints must stay within their bounds and every fixed joint's multiplier must push
-    outwards, or OSQP's answer stands.
+    Args:
+        upper: Joints held at their upper bound, shape (n,) bool.
+        lower: Joints held at their lower bound, shape (n,) bool.
     """
-    scale = max(1.0, float(np.abs(qp.c).max()))
-    upper = y > tolerance * scale
-    lower = y < -tolerance * scale
-    fixed = upper | lower
-    K = qp.H.copy()
-    rhs = -qp.c
-    if fixed.any():  # fixed joints: replace their rows by "x_j = bound"
-        K[fixed] = 0.0
-        K[fixed, fixed] = 1.0
-        rhs = np.where(upper, qp.upper, np.where(lower, qp.lower, rhs))
-    try:
-        refined = np.linalg.solve(K, rhs)
-    except np.linalg.LinAlgError:
-        return x
-    slack = 1e-9 * scale
-    gradient = qp.H @ refined + qp.c
-    valid = (
-        (refined >= qp.lower - slack).all()
-        and (refined <= qp.upper + slack).all()
-        and np.where(upper, gradient, 0.0).max() <= slack
-        and np.where(lower, gradient, 0.0).min() >= -slack
-    )
-    return refined if valid else x
+
+    #: Slack of the optimality checks, relative to ``max(1, |c|)``; round-off is far smaller.
+    SLACK = 1e-9
+
+    def __init__(self, upper: NDArray[np.bool_], lower: NDArray[np.bool_]) -> None:
+        self.upper = upper
+        self.lower = lower
+        self.fixed = upper | lower
+        self.empty = not self.fixed.any()
+
+    @classmethod
+    def none(cls, n: int) -> _ActiveSet:
+        """No bound held: the unconstrained solution."""
+        return cls(np.zeros(n, dtype=bool), np.zeros(n, dtype=bool))
+
+    @classmethod
+    def from_multipliers(cls, qp: QP, y: FloatArray, tolerance: float) -> _ActiveSet:
+        """The bounds whose OSQP multiplier is clearly non-zero (positive: upper)."""
+        n = qp.c.size
+        scale = max(1.0, float(np.abs(qp.c).max()))
+        return cls(y[:n] > tolerance * scale, y[:n] < -tolerance * scale)
+
+    def solve(self, qp: QP) -> FloatArray | None:
+        """The QP's exact solution if this is its active set, else None (bounds-only QPs).
+
+        With the held joints fixed at their bounds the rest is one linear solve. The result
+        is the solution only if it meets the optimality conditions: every joint within its
+        bounds, and every held joint's cost gradient pointing outwards (a multiplier of the
+        right sign). ADMM stops at a tolerance; along weakly weighted directions (a redundant
+        arm's self-motion, held only by the damping and posture terms) its ``x`` may be off
+        by tolerance / weight, which this removes.
+        """
+        lower, upper = qp.lower, qp.upper
+        if self.empty:
+            _, x, info = lapack.dposv(qp.H, qp.c)
+            x = -x
+        else:
+            K = qp.H.copy()  # the held joints' rows become "x_j = bound"
+            K[self.fixed] = 0.0
+            K[self.fixed, self.fixed] = 1.0
+            rhs = np.where(self.upper, upper, np.where(self.lower, lower, -qp.c))
+            _, _, x, info = lapack.dgesv(K, rhs)
+        if info != 0:  # singular: let OSQP decide
+            return None
+        slack = self.SLACK * max(1.0, float(np.abs(qp.c).max()))
+        if np.maximum(lower - x, x - upper).max() > slack:
+            return None
+        if not self.empty:
+            gradient = qp.H @ x + qp.c
+            if np.where(self.upper, gradient, 0.0).max() > slack:
+                return None
+            if np.where(self.lower, gradient, 0.0).min() < -slack:
+                return None
+        return np.minimum(np.maximum(x, lower), upper)  # round-off within the slack
 
 
 def _checked_rows(constraint: object, n: int) -> Constraint:

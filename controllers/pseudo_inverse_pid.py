@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from controllers.cartesian_pid import CartesianPID, tool_kinematics
-from controllers.controller import Command, Controller, Reference, State
+from controllers.controller import Command, Controller, Reference, State, cross3
 from optraj.errors import InvalidInputError
 from optraj.validation import as_array
 from robots import Robot
@@ -90,6 +90,6 @@ class PseudoInversePID(Controller):
 def _normal_basis(axis: FloatArray) -> FloatArray:
     """Two orthonormal vectors normal to a unit ``axis``, as rows, shape (2, 3)."""
     helper = np.array([1.0, 0.0, 0.0]) if abs(axis[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    first = np.cross(axis, helper)
+    first = cross3(axis, helper)
     first /= np.linalg.norm(first)
-    return np.vstack([first, np.cross(axis, first)])
+    return np.vstack([first, cross3(axis, first)])

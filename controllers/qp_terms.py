@@ -16,6 +16,7 @@ The pieces take plain arrays (no robot, no state), so that each is tested on its
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 from typing import NamedTuple
@@ -116,10 +117,9 @@ def task_weights(linear: float, angular: float, axis: FloatArray | None = None) 
         axis: Tool z axis in world axes, shape (3,), for a 5-D task: the angular velocity
             about it is left free (its weight is 0). ``None`` for the full 6-D task.
     """
-    W = np.zeros((6, 6))
-    W[:3, :3] = linear * np.eye(3)
-    rotation = np.eye(3) if axis is None else np.eye(3) - np.outer(axis, axis)
-    W[3:, 3:] = angular * rotation
+    W = np.diag([linear, linear, linear, angular, angular, angular])
+    if axis is not None:
+        W[3:, 3:] -= angular * (axis[:, None] * axis)
     return W
 
 
@@ -129,10 +129,11 @@ def task_objective(J: FloatArray, v: FloatArray, W: FloatArray) -> Objective:
     Args:
         J: Task Jacobian, shape (6, n).
         v: Wanted twist [m/s; rad/s], shape (6,).
-        W: Symmetric PSD weights, shape (6, 6).
+        W: Symmetric PSD weights, shape (6, 6), or the diagonal of a diagonal ``W``, shape (6,)
+            (cheaper: one scaling instead of a matrix product).
     """
-    WJ = W @ J
-    return Objective(J.T @ WJ, -(WJ.T @ v))
+    WJ = W[:, None] * J if W.ndim == 1 else W @ J
+    return Objective(J.T @ WJ, -(v @ WJ))
 
 
 def damping_objective(n: int, damping: float) -> Objective:
@@ -154,8 +155,7 @@ def posture_objective(
         weight: Weight ``w`` relative to the task [-].
         gain: Rate ``k`` at which the posture error is closed [1/s].
     """
-    n = q.size
-    return Objective(weight * np.eye(n), -weight * gain * (q_posture - q))
+    return Objective(weight * _identity(q.size), (weight * gain) * (q - q_posture))
 
 
 # ---------------------------------------------------------------------------------- bounds
@@ -207,14 +207,13 @@ def position_bounds(
         dt: Control period [s].
         gain: Fraction of the distance to the limit that one step may cover, in (0, 1].
     """
-    room_up = upper - q
-    room_down = q - lower
-    step = acceleration * dt
-    brake_up = np.sqrt(step**2 + 2.0 * acceleration * np.maximum(room_up, 0.0)) - step
-    brake_down = np.sqrt(step**2 + 2.0 * acceleration * np.maximum(room_down, 0.0)) - step
-    up = np.minimum(gain * room_up / dt, brake_up)
-    down = np.minimum(gain * room_down / dt, brake_down)
-    return Bounds(-down, up, "position")
+    n = q.size
+    room = np.concatenate((upper - q, q - lower))  # [to the upper limit; to the lower one]
+    a = np.concatenate((acceleration, acceleration))  # for both sides
+    step = a * dt
+    brake = np.sqrt(step * step + (a + a) * np.maximum(room, 0.0)) - step
+    speed = np.minimum((gain / dt) * room, brake)
+    return Bounds(-speed[n:], speed[:n], "position")
 
 
 # -------------------------------------------------------------------------------- combine
@@ -232,6 +231,9 @@ def combine(
     the acceleration bound forbids turning back at once), that joint keeps the value of the
     earlier interval nearest to it, and the bound's name is listed in ``QP.relaxed``.
 
+    Called at every control step, so it checks shapes but otherwise keeps to few array
+    operations: with no constraint rows, ``QP.A`` is a shared read-only identity.
+
     Raises:
         InvalidInputError: No objective, shapes that disagree, or a first bound with
             lower > upper.
@@ -239,8 +241,7 @@ def combine(
     if not objectives:
         raise InvalidInputError("combine needs at least one objective", name="objectives")
     n = objectives[0].c.size
-    H = np.zeros((n, n))
-    c = np.zeros(n)
+    H = c = None
     for objective in objectives:
         if objective.H.shape != (n, n) or objective.c.shape != (n,):
             raise InvalidInputError(
@@ -248,8 +249,49 @@ def combine(
                 f"({n}, {n}), ({n},)",
                 name="objectives",
             )
-        H += objective.H
-        c += objective.c
+        H = objective.H if H is None else H + objective.H
+        c = objective.c if c is None else c + objective.c
+    if len(objectives) == 1:  # the sum must not share memory with a piece
+        H, c = H.copy(), c.copy()
+    lower, upper, relaxed = _intersect(bounds, n)
+    if not constraints:
+        return QP(H, c, _identity(n), lower, upper, relaxed)  # type: ignore[arg-type]
+    rows = [_identity(n)]
+    row_lower = [lower]
+    row_upper = [upper]
+    for constraint in constraints:
+        if constraint.G.ndim != 2 or constraint.G.shape[1] != n:
+            raise InvalidInputError(
+                f"constraint G must have shape (m, {n}), got {constraint.G.shape}",
+                name="constraints",
+            )
+        rows.append(constraint.G)
+        row_lower.append(constraint.lower)
+        row_upper.append(constraint.upper)
+    return QP(
+        H,  # type: ignore[arg-type]
+        c,  # type: ignore[arg-type]
+        np.vstack(rows),
+        np.concatenate(row_lower),
+        np.concatenate(row_upper),
+        relaxed,
+    )
+
+
+def _intersect(bounds: Sequence[Bounds], n: int) -> tuple[FloatArray, FloatArray, tuple[str, ...]]:
+    """Intersect boxes in priority order: (lower, upper, names of the relaxed ones).
+
+    The usual case, where every box overlaps the others, takes one pass; only when the
+    intersection comes out empty are the boxes gone through one by one to relax the later ones.
+    """
+    if not bounds:
+        return np.full(n, -math.inf), np.full(n, math.inf), ()
+    lower, upper = bounds[0].lower, bounds[0].upper
+    for box in bounds[1:]:
+        lower = np.maximum(lower, box.lower)
+        upper = np.minimum(upper, box.upper)
+    if len(bounds) > 1 and not (lower > upper).any():
+        return lower, upper, ()
     lower = np.full(n, -math.inf)
     upper = np.full(n, math.inf)
     relaxed: list[str] = []
@@ -270,23 +312,12 @@ def combine(
             new_upper = np.where(empty, nearest, new_upper)
             relaxed.append(box.name)
         lower, upper = new_lower, new_upper
-    rows = [np.eye(n)]
-    row_lower = [lower]
-    row_upper = [upper]
-    for constraint in constraints:
-        if constraint.G.ndim != 2 or constraint.G.shape[1] != n:
-            raise InvalidInputError(
-                f"constraint G must have shape (m, {n}), got {constraint.G.shape}",
-                name="constraints",
-            )
-        rows.append(constraint.G)
-        row_lower.append(constraint.lower)
-        row_upper.append(constraint.upper)
-    return QP(
-        H,
-        c,
-        np.vstack(rows),
-        np.concatenate(row_lower),
-        np.concatenate(row_upper),
-        tuple(relaxed),
-    )
+    return lower, upper, tuple(relaxed)
+
+
+@functools.cache
+def _identity(n: int) -> FloatArray:
+    """The n x n identity, shared and read-only."""
+    identity = np.eye(n)
+    identity.flags.writeable = False
+    return identity

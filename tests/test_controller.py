@@ -12,6 +12,7 @@ from controllers.controller import (
     References,
     State,
     as_gains,
+    cross3,
     rotation_error,
     sample_references,
 )
@@ -140,6 +141,19 @@ def test_controller_base_is_abstract_and_names_by_class():
 def _rotation(axis, angle):
     axis = np.asarray(axis, dtype=float)
     return Rotation.from_rotvec(axis / np.linalg.norm(axis) * angle).as_matrix()
+
+
+def test_cross3_matches_numpy_cross():
+    rng = np.random.default_rng(21)
+    for _ in range(200):
+        a, b = rng.normal(size=3) * rng.uniform(1e-3, 1e3), rng.normal(size=3)
+        np.testing.assert_allclose(
+            cross3(a, b), np.cross(a, b), rtol=1e-14, atol=1e-14 * abs(a).max()
+        )
+    matrix = rng.normal(size=(3, 3))  # column views, as the controllers pass them
+    np.testing.assert_allclose(
+        cross3(matrix[:, 0], matrix[:, 2]), np.cross(matrix[:, 0], matrix[:, 2])
+    )
 
 
 def test_rotation_error_hand_computed():

@@ -95,6 +95,73 @@ def test_constrained_solution_equals_bounded_least_squares():
     assert active_cases >= 10  # the test exercises bounds that bind
 
 
+def test_active_set_path_gives_the_exact_solution_as_the_active_set_changes():
+    # A closed loop whose references jump now and then: most steps keep the last active set
+    # (solved by one linear solve), the jumps change it (OSQP). Every command must equal the
+    # bounded least-squares solution of its step's QP, whichever path produced it.
+    robot = get_robot("sawyer")
+    limits = robot.limits
+    rng = np.random.default_rng(22)
+    controller = DiffIKQP(robot, ki=0.0, kp=300.0)
+    q, reference = _random_case(robot, rng)
+    last = np.zeros(robot.dof)
+    controller.reset(State(0.0, q, last))
+    paths = {"active set": 0, "osqp": 0}
+    held = 0
+    for k in range(150):
+        if k % 10 == 0:
+            q_ref = np.clip(q + rng.normal(0.0, 0.05, robot.dof), limits.lower, limits.upper)
+            reference = _reference(
+                robot, q_ref, rng.uniform(-0.5, 0.5, robot.dof) * limits.velocity
+            )
+        state = State(k * DT, q, last)
+        qp = controller.build(state, reference, DT)  # ki = 0: building twice changes nothing
+        A, b = _stacked_least_squares(robot, controller, q, reference)
+        expected = lsq_linear(A, b, bounds=(qp.lower, qp.upper), tol=1e-14, method="bvls").x
+        command = controller.step(state, reference, DT)
+        assert command.status == "ok"
+        np.testing.assert_allclose(command.qd, expected, atol=1e-6, rtol=0)
+        paths[controller.diagnostics["solver"]] += 1
+        held += bool(np.any(np.isclose(command.qd, qp.upper) | np.isclose(command.qd, qp.lower)))
+        q = q + command.qd * DT
+        last = command.qd
+    assert paths["active set"] >= 100 and paths["osqp"] >= 10, paths
+    assert held >= 50  # bounds bind on many steps, not only the unconstrained case
+
+
+def test_a_wrong_active_set_guess_is_refused_and_osqp_decides():
+    robot = get_robot("sawyer")
+    n = robot.dof
+    rng = np.random.default_rng(23)
+    q, reference = _random_case(robot, rng)
+    A, b = _stacked_least_squares(robot, DiffIKQP(robot, ki=0.0), q, reference)
+    unconstrained = np.linalg.lstsq(A, b, rcond=None)[0]
+    # A velocity limit just below the fastest joint's need: some bounds bind, some joints not.
+    scale = 0.95 * float(np.max(np.abs(unconstrained) / robot.limits.velocity))
+    limit = scale * robot.limits.velocity
+    controller = DiffIKQP(robot, ki=0.0, velocity_scale=scale)
+    state = State(0.0, q, np.clip(unconstrained, -limit, limit))
+    controller.reset(state)
+    qp = controller.build(state, reference, DT)
+    expected = lsq_linear(A, b, bounds=(qp.lower, qp.upper), tol=1e-14, method="bvls").x
+    at_upper = np.isclose(expected, qp.upper, atol=1e-9)
+    at_lower = np.isclose(expected, qp.lower, atol=1e-9)
+    free = ~(at_upper | at_lower)
+    assert at_upper.any() and free.any()
+    right = diff_ik_qp._ActiveSet(at_upper, at_lower)
+    np.testing.assert_allclose(right.solve(qp), expected, atol=1e-9, rtol=0)
+    assert diff_ik_qp._ActiveSet.none(n).solve(qp) is None  # leaves the box
+    too_many = at_upper.copy()
+    too_many[np.flatnonzero(free)[0]] = True  # a free joint held at its upper bound
+    assert diff_ik_qp._ActiveSet(too_many, at_lower).solve(qp) is None  # wrong multiplier
+    too_few = at_upper.copy()
+    too_few[np.flatnonzero(at_upper)[0]] = False  # a bound joint let free
+    assert diff_ik_qp._ActiveSet(too_few, at_lower).solve(qp) is None  # leaves its bound
+    command = controller.step(state, reference, DT)  # after reset: the empty guess
+    assert controller.diagnostics["solver"] == "osqp"
+    np.testing.assert_allclose(command.qd, expected, atol=1e-6, rtol=0)
+
+
 def test_commands_never_leave_the_limits_in_a_random_stress():
     robot = get_robot("sawyer")
     limits = robot.limits

@@ -36,6 +36,16 @@ def test_task_objective_is_the_weighted_squared_error_up_to_a_constant():
         np.testing.assert_allclose(_value(objective, x) + constant, 0.5 * r @ W @ r, rtol=1e-12)
 
 
+def test_task_objective_with_diagonal_weights_equals_the_full_matrix():
+    rng = np.random.default_rng(4)
+    J = rng.normal(size=(6, 7))
+    v = rng.normal(size=6)
+    W = task_weights(2.0, 0.5)
+    full, diagonal = task_objective(J, v, W), task_objective(J, v, np.diag(W))
+    np.testing.assert_allclose(diagonal.H, full.H, rtol=1e-14)
+    np.testing.assert_allclose(diagonal.c, full.c, rtol=1e-14)
+
+
 def test_axis_weights_ignore_rotation_about_the_axis():
     axis = np.array([0.0, 0.6, 0.8])
     W = task_weights(1.0, 3.0, axis=axis)
