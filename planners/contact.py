@@ -36,6 +36,7 @@ from __future__ import annotations
 import functools
 import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import casadi as ca
@@ -493,7 +494,8 @@ class _Window:
     qd1: FloatArray  # optimal contact joint velocity at unit speed [rad/m]
     binding: tuple[int, ...]  # binding joints where the largest ratio occurs
     binding_qd1: FloatArray  # the joint velocity at unit speed there [rad/m]
-    score: float  # r1 raised by the joint-limit penalty, for ranking
+    turn: float  # unit-speed ratio of the room the window leaves to turn at a limit [s/m]
+    score: float  # max(r1, turn) raised by the joint-limit penalty, for ranking
     order: tuple[int, ...]  # places (0 contact, 1 entry, 2 exit): largest ratio, nearest limit
 
 
@@ -507,6 +509,9 @@ class _PoolSearch:
         self.direction = np.asarray(problem.direction, dtype=float)
         self.across = _across(self.direction)
         self.velocity_limit = np.asarray(self.limits.velocity, dtype=float)
+        self.twice_acceleration = 2.0 * np.asarray(self.limits.acceleration, dtype=float)
+        self.run_up = float(problem.run_up)
+        self.follow_through = float(problem.follow_through)
         self.lower = np.asarray(self.limits.lower, dtype=float)
         self.upper = np.asarray(self.limits.upper, dtype=float)
         self.zone = _LIMIT_ZONE * (self.upper - self.lower)
@@ -536,6 +541,40 @@ class _PoolSearch:
         """The IK solution for one point of the line reached from q, if any (within limits)."""
         found = ik(q)
         return found if found is not None and self._inside(found) else None
+
+    def _turn(self, entry: FloatArray, contact: FloatArray, exit_: FloatArray) -> float:
+        """How hard the window presses a joint against a position limit, per unit speed [s/m].
+
+        A joint that enters the window moving away from a limit must have turned round
+        before, in the room behind it; one that leaves it moving towards a limit must stop in
+        the room ahead. Turning or stopping from speed u at acceleration a takes u^2 / (2 a).
+        With the joint velocity along the window estimated from its configurations, u1 per
+        metre of tool travel ((contact - entry) / run_up at the entry, (exit - contact) /
+        follow_through at the exit), the strike at speed v has that room when
+        ``v |u1| / sqrt(2 a room) <= 1``; the largest of these over the joints and both ends
+        is returned (0 when no joint moves, inf when one moves off a limit it sits on). It is
+        an estimate, not a bound (the arm may use its self-motion), so it ranks candidates
+        and never refuses a strike.
+        """
+        worst = 0.0
+        for near, far, length, ahead in (
+            (entry, contact, self.run_up, False),
+            (exit_, contact, self.follow_through, True),
+        ):
+            if length <= 0.0:
+                continue
+            rate = (near - far if ahead else far - near) / length  # [rad/m], along the window
+            towards_upper = (rate > 0.0) == ahead  # the side whose room counts
+            room = np.where(towards_upper, self.upper - near, near - self.lower)
+            moving = rate != 0.0
+            if not moving.any():
+                continue
+            with np.errstate(divide="ignore"):
+                need = np.abs(rate[moving]) / np.sqrt(
+                    self.twice_acceleration[moving] * np.maximum(room[moving], 0.0)
+                )
+            worst = max(worst, float(need.max()))
+        return worst
 
     def _ratio(self, q: FloatArray) -> tuple[float, FloatArray]:
         """:func:`_unit_ratio` at q for the strike direction, the cue held on the line."""
@@ -579,6 +618,7 @@ class _PoolSearch:
                 return None
         worst = max(range(3), key=ratios.__getitem__)  # the earliest place on a tie
         tightest = max(range(3), key=near_limit.__getitem__)
+        turn = self._turn(configs[1], q, configs[2])
         return _Window(
             q=q,
             q_entry=configs[1],
@@ -587,7 +627,8 @@ class _PoolSearch:
             qd1=velocities[0],
             binding=tuple(_binding(velocities[worst], self.velocity_limit)),
             binding_qd1=velocities[worst],
-            score=ratios[worst] * (1.0 + _LIMIT_PENALTY * near_limit[tightest]),
+            turn=turn,
+            score=max(ratios[worst], turn) * (1.0 + _LIMIT_PENALTY * near_limit[tightest]),
             order=tuple(dict.fromkeys((worst, tightest, 0, 1, 2))),
         )
 
@@ -684,12 +725,23 @@ def contact_choices(
     candidates: int = 16,
     seed: int = 0,
     margin: float = 0.0,
+    exclude: Sequence[FloatArray] = (),
 ) -> tuple[ContactChoice, ...]:
     """The best ``count`` distinct contact configurations, in :func:`choose_contact`'s order.
 
     The first is :func:`choose_contact`'s; the others are other IK branches (at least 0.1 rad
     apart on some joint), for a planner to fall back on when it cannot solve from the first.
     A paddle strike has one (closed-form) configuration.
+
+    Args:
+        problem: As :func:`choose_contact`.
+        count: Most configurations to return (>= 1).
+        candidates: As :func:`choose_contact`.
+        seed: As :func:`choose_contact`.
+        margin: As :func:`choose_contact`.
+        exclude: Pool: configurations already tried [rad], each shape (n,); choices on their
+            branches (within 0.1 rad on every joint) are left out, so the result may be
+            empty.
 
     Raises:
         InfeasibleError, InvalidInputError, SolverError: As :func:`choose_contact`.
@@ -702,7 +754,8 @@ def contact_choices(
     if not 0.0 <= reserve < 1.0:
         raise InvalidInputError(f"margin must be in [0, 1), got {reserve:.6g}", name="margin")
     if isinstance(problem, PoolStrike):
-        return tuple(_rank_pool(problem, searched, int(seed), reserve, wanted))
+        tried = [as_vector(q, "exclude", problem.limits.n) for q in exclude]
+        return tuple(_rank_pool(problem, searched, int(seed), reserve, wanted, tried))
     if isinstance(problem, PaddleStrike):
         return (_choose_paddle(problem, reserve),)
     raise InvalidInputError(
@@ -719,7 +772,12 @@ def _reach(problem: PoolStrike, q: FloatArray) -> float:
 
 
 def _rank_pool(
-    problem: PoolStrike, candidates: int, seed: int, margin: float, count: int
+    problem: PoolStrike,
+    candidates: int,
+    seed: int,
+    margin: float,
+    count: int,
+    exclude: Sequence[FloatArray] = (),
 ) -> list[ContactChoice]:
     """Up to ``count`` distinct contact configurations, best first (see choose_contact)."""
     search = _PoolSearch(problem)
@@ -767,19 +825,22 @@ def _rank_pool(
             f"any contact configuration found ({search.evaluated} tried)",
         )
     room = _HEADROOM * (1.0 - margin)
-    roomy = [w for w in windows if speed * w.r1 <= room]
-    tight = [w for w in windows if speed * w.r1 > room]
+    # Room to spare: in the velocity ratio, and (estimated) to turn at the position limits.
+    roomy = [w for w in windows if speed * max(w.r1, w.turn) <= room]
+    tight = [w for w in windows if speed * max(w.r1, w.turn) > room]
     # Fast enough with room to spare: the one the arm reaches soonest first; then the rest
     # by whether they are fast enough and their ratio.
     ranked = sorted(roomy, key=lambda w: (_reach(problem, w.q), w.score)) + sorted(
         tight, key=lambda w: (speed * w.r1 > 1.0 - margin, w.score)
     )
     distinct: list[_Window] = []
+    taken = list(exclude)
     for window in ranked:  # alternatives must be other branches, not the same one refined
         if speed * window.r1 <= 1.0 - margin and all(
-            np.abs(window.q - other.q).max() > _SPREAD for other in distinct
+            np.abs(window.q - other).max() > _SPREAD for other in taken
         ):
             distinct.append(window)
+            taken.append(window.q)
         if len(distinct) == count:
             break
     return [

@@ -309,6 +309,9 @@ class OptimalControl:
         contact_candidates: Contact configurations compared for a strike.
         contact_retries: Other contact configurations (other IK branches, next best first)
             a pool strike is solved from when the solver fails from the chosen one, >= 0.
+            When every one fails, the contact search runs once more over twice as many
+            candidates and its new branches (as many again) are tried too; the last
+            failure is raised. 0 solves from the chosen configuration only.
         free_grid: Whether each interval of a free phase has its own length (else all
             intervals of a phase are equal).
     """
@@ -421,19 +424,29 @@ class OptimalControl:
         if not isinstance(problem, PoolStrike) or self.contact_retries == 0:
             traj = self._plan(problem, self._spec(problem), warm_start)
             return stamp(traj, self.name, started)
-        choices = contact_choices(
-            problem, 1 + self.contact_retries, candidates=self.contact_candidates
-        )
-        # Another branch starts from its own guess: a warm start fits the first only. The last
-        # branch's failure is the caller's.
-        for attempt, choice in enumerate(choices[:-1], start=1):
+        tried: list[FloatArray] = []
+        failure: SolverError | None = None
+        # The contact search once as set, then once more over twice as many candidates for
+        # branches it missed; a warm start fits the first branch only.
+        for candidates in (self.contact_candidates, 2 * self.contact_candidates):
             try:
-                start = warm_start if attempt == 1 else None
-                return self._attempt(problem, choice, start, attempt, started)
-            except SolverError:
-                continue
-        last = warm_start if len(choices) == 1 else None
-        return self._attempt(problem, choices[-1], last, len(choices), started)
+                choices = contact_choices(
+                    problem, 1 + self.contact_retries, candidates=candidates, exclude=tried
+                )
+            except InfeasibleError:
+                if failure is None:
+                    raise
+                break  # the wider search refused what the first accepted: report the solver
+            for choice in choices:
+                tried.append(choice.q)
+                start = warm_start if len(tried) == 1 else None
+                try:
+                    return self._attempt(problem, choice, start, len(tried), started)
+                except SolverError as error:
+                    failure = error
+        if failure is None:  # pragma: no cover - the first search returns at least one branch
+            raise SolverError(self.solver, "no contact configuration to solve from")
+        raise failure
 
     def _attempt(
         self,

@@ -126,6 +126,27 @@ def _window_ratio(problem, q):
     return max(ratios)
 
 
+def _turn_ratio(problem, q):
+    """The documented room-to-turn estimate at the strike's speed, from IK'd window ends."""
+    robot, direction, limits = problem.robot, problem.direction, problem.limits
+    entry, leave = (
+        solve_ik(robot, point, axis=direction, q_near=q, restarts=0).q
+        for point in (problem.entry_point, problem.exit_point)
+    )
+    worst = 0.0
+    for end, rate in (
+        (entry, (q - entry) / problem.run_up),  # must have turned before: room behind
+        (leave, (leave - q) / problem.follow_through),  # must stop after: room ahead
+    ):
+        behind = end is entry
+        for j in np.flatnonzero(rate):
+            up = (rate[j] > 0) != behind
+            room = limits.upper[j] - end[j] if up else end[j] - limits.lower[j]
+            need = problem.speed * abs(rate[j]) / np.sqrt(2 * limits.acceleration[j] * max(room, 0))
+            worst = max(worst, need)
+    return worst
+
+
 # ---------------------------------------------------------------------------- twist_ratio
 
 
@@ -381,8 +402,9 @@ def test_pool_choice_is_on_the_line_and_beats_the_naive_branch():
         naive = _window_ratio(problem, problem.q_contact)
         if naive is not None:
             # The naive branch is a candidate; ranking may prefer room from the position
-            # limits, at a cost of at most 2 % in ratio.
-            assert choice.ratio <= 1.02 * naive + 1e-12
+            # limits, at a cost of at most 2 % in ratio, or room to turn at them.
+            cornered = _turn_ratio(problem, problem.q_contact) > naive
+            assert choice.ratio <= 1.02 * naive + 1e-12 or cornered
             chosen_ratios.append(choice.ratio)
             naive_ratios.append(naive)
     assert len(chosen_ratios) >= 4
@@ -410,7 +432,8 @@ def test_self_motion_search_improves_a_single_start():
             ),
             rtol=1e-9,
         )
-        assert choice.ratio <= 1.02 * naive + 1e-12
+        cornered = _turn_ratio(problem, problem.q_contact) > naive
+        assert choice.ratio <= 1.02 * naive + 1e-12 or cornered
         improved.append(choice.ratio)
         naive_ratios.append(naive)
     assert np.mean(improved) <= 0.9 * np.mean(naive_ratios)
@@ -584,3 +607,51 @@ def test_contact_choices_are_distinct_branches_led_by_the_chosen_one():
     assert len(contact_choices(paddle, 3)) == 1
     with pytest.raises(InvalidInputError, match="count"):
         contact_choices(problem, 0)
+
+
+# ---------------------------------------------------------------- room to turn at the limits
+
+
+def test_turn_estimate_matches_its_formula_and_ranks_cornered_contacts_last():
+    from planners.contact import _PoolSearch
+
+    checked = 0
+    for problem in _shots(6, speed=1.0, seed=31):
+        choice = choose_contact(problem)
+        search = _PoolSearch(problem)
+        window = search.window(choice.q)
+        np.testing.assert_allclose(
+            problem.speed * window.turn, _turn_ratio(problem, choice.q), rtol=1e-7
+        )
+        # The choice has room to turn whenever some contact found had it.
+        assert problem.speed * window.turn <= 1.0 or choice.ratio > 0.9
+        checked += 1
+    assert checked == 6
+
+
+def test_a_joint_leaving_a_limit_it_sits_on_has_no_room_to_turn():
+    from planners.contact import _PoolSearch
+
+    problem = next(_shots(1, speed=1.0, seed=32))
+    search = _PoolSearch(problem)
+    limits = problem.limits
+    contact = (limits.lower + limits.upper) / 2
+    entry, leave = contact.copy(), contact.copy()
+    entry[0] = limits.lower[0]  # on its lower limit at the entry, moving up into the window
+    contact[0] = limits.lower[0] + 0.01
+    assert search._turn(entry, contact, leave) == math.inf
+    entry[0] = limits.lower[0] + 0.011  # moving slowly down: the whole range behind it
+    leave[0] = contact[0] + 0.005  # turned round inside the window, moving up fast
+    rate = 0.005 / problem.follow_through
+    expected = rate / math.sqrt(2 * limits.acceleration[0] * (limits.upper[0] - leave[0]))
+    np.testing.assert_allclose(search._turn(entry, contact, leave), expected, rtol=1e-12)
+
+
+def test_excluded_branches_are_left_out():
+    problem = next(_shots(1, speed=1.0, seed=33))
+    first = contact_choices(problem, 3)
+    others = contact_choices(problem, 3, exclude=[first[0].q])
+    for choice in others:
+        assert np.abs(choice.q - first[0].q).max() > 0.1
+    # The same search: the next branches of the first call come first.
+    assert [c.q.tolist() for c in others[:2]] == [c.q.tolist() for c in first[1:]]
