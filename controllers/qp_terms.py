@@ -241,7 +241,6 @@ def combine(
     if not objectives:
         raise InvalidInputError("combine needs at least one objective", name="objectives")
     n = objectives[0].c.size
-    H = c = None
     for objective in objectives:
         if objective.H.shape != (n, n) or objective.c.shape != (n,):
             raise InvalidInputError(
@@ -249,13 +248,14 @@ def combine(
                 f"({n}, {n}), ({n},)",
                 name="objectives",
             )
-        H = objective.H if H is None else H + objective.H
-        c = objective.c if c is None else c + objective.c
-    if len(objectives) == 1:  # the sum must not share memory with a piece
-        H, c = H.copy(), c.copy()
+    H = objectives[0].H.copy()  # the sum must not share memory with a piece
+    c = objectives[0].c.copy()
+    for objective in objectives[1:]:
+        H += objective.H
+        c += objective.c
     lower, upper, relaxed = _intersect(bounds, n)
     if not constraints:
-        return QP(H, c, _identity(n), lower, upper, relaxed)  # type: ignore[arg-type]
+        return QP(H, c, _identity(n), lower, upper, relaxed)
     rows = [_identity(n)]
     row_lower = [lower]
     row_upper = [upper]
@@ -269,8 +269,8 @@ def combine(
         row_lower.append(constraint.lower)
         row_upper.append(constraint.upper)
     return QP(
-        H,  # type: ignore[arg-type]
-        c,  # type: ignore[arg-type]
+        H,
+        c,
         np.vstack(rows),
         np.concatenate(row_lower),
         np.concatenate(row_upper),

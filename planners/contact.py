@@ -47,7 +47,7 @@ from numpy.typing import ArrayLike, NDArray
 from optraj.errors import InfeasibleError, InvalidInputError, SolverError
 from optraj.validation import as_array, as_count, as_vector
 from problems import PaddleStrike, PoolStrike
-from problems.common import unit_vector
+from problems.common import normal_pair, unit_vector
 from robots import JointLimits, Robot, solve_ik
 from robots.ik import LocalIK
 from robots.paddle_ik import BALL_OFFSET
@@ -353,14 +353,6 @@ def _idle_columns(rows: FloatArray) -> NDArray[np.bool_]:
     return lengths <= _IDLE_COLUMN**2 * lengths.max()
 
 
-def _across(direction: FloatArray) -> FloatArray:
-    """Two unit vectors completing ``direction`` to an orthonormal basis, shape (2, 3)."""
-    helper = np.eye(3)[int(np.argmin(np.abs(direction)))]
-    first = np.cross(direction, helper)
-    first /= np.linalg.norm(first)
-    return np.array([first, np.cross(direction, first)])
-
-
 def _task_rows(robot: Robot, q: FloatArray, offset: float, across: FloatArray | None) -> FloatArray:
     """Rows A with ``A qd`` = [point velocity; angular velocity along ``across``].
 
@@ -473,7 +465,7 @@ def twist_ratio(
     if speed_value == 0.0:
         return 0.0, np.zeros(robot.dof), 0
     velocity_limit = np.asarray(used.velocity, dtype=float)
-    across = _across(unit) if align_axis else None
+    across = normal_pair(unit) if align_axis else None
     r1, qd1 = _unit_ratio(_MinMaxRatio(), robot, config, unit, velocity_limit, offset_value, across)
     qd = speed_value * qd1
     binding = _binding(qd, velocity_limit)
@@ -507,7 +499,7 @@ class _PoolSearch:
         self.robot = problem.robot
         self.limits = problem.limits
         self.direction = np.asarray(problem.direction, dtype=float)
-        self.across = _across(self.direction)
+        self.across = normal_pair(self.direction)
         self.velocity_limit = np.asarray(self.limits.velocity, dtype=float)
         self.twice_acceleration = 2.0 * np.asarray(self.limits.acceleration, dtype=float)
         self.run_up = float(problem.run_up)
@@ -867,7 +859,7 @@ def _choose_paddle(problem: PaddleStrike, margin: float) -> ContactChoice:
     # Hold the normal still at contact (as planners.cartesian.paddle_contact_velocity does);
     # paddle4 always can, but should a robot not, let the paddle turn.
     r1, qd1 = _unit_ratio(
-        lp, problem.robot, q, normal, velocity_limit, BALL_OFFSET, _across(normal)
+        lp, problem.robot, q, normal, velocity_limit, BALL_OFFSET, normal_pair(normal)
     )
     if math.isinf(r1):
         r1, qd1 = _unit_ratio(lp, problem.robot, q, normal, velocity_limit, BALL_OFFSET, None)

@@ -100,6 +100,7 @@ from planners.transcription import (
     structure_limits,
 )
 from problems import PaddleStrike, PointToPoint, PoolStrike, Waypoints
+from problems.common import normal_pair
 from robots import JointLimits, Robot, SymbolicModel
 from robots.paddle_ik import BALL_OFFSET
 
@@ -1046,13 +1047,6 @@ def _waypoints(problem: Waypoints) -> _Spec:
     return _Spec(problem.robot, limits, tuple(names), durations, guess, fixed)
 
 
-def _orthonormal(direction: FloatArray) -> tuple[FloatArray, FloatArray]:
-    helper = np.eye(3)[int(np.argmin(np.abs(direction)))]
-    e1 = np.cross(direction, helper)
-    e1 /= np.linalg.norm(e1)
-    return e1, np.cross(direction, e1)
-
-
 def _pool(problem: PoolStrike, choice: ContactChoice) -> _Spec:
     limits = problem.limits
     n = limits.n
@@ -1070,7 +1064,7 @@ def _pool(problem: PoolStrike, choice: ContactChoice) -> _Spec:
         [("approach", [approach]), ("strike", [line]), ("stop", [brake])], joint_names=limits.names
     )
     direction = np.asarray(problem.direction)
-    e1, e2 = _orthonormal(direction)
+    e1, e2 = normal_pair(direction)
     return _Spec(
         robot=problem.robot,
         limits=limits,

@@ -13,6 +13,7 @@ __all__ = [
     "check_robot",
     "joint_state",
     "non_negative",
+    "normal_pair",
     "positive",
     "resolve_limits",
     "unit_vector",
@@ -58,6 +59,18 @@ def unit_vector(value: ArrayLike, name: str) -> FloatArray:
     if norm < 1e-9:
         raise InvalidInputError(f"{name} must be a non-zero direction, got {vector}", name=name)
     return vector / norm
+
+
+def normal_pair(direction: FloatArray) -> FloatArray:
+    """Two unit vectors completing a unit ``direction`` to an orthonormal basis, shape (2, 3).
+
+    The first is normal to the direction and to the world axis it is least aligned with; the
+    second is ``direction x first``.
+    """
+    helper = np.eye(3)[int(np.argmin(np.abs(direction)))]
+    first = np.cross(direction, helper)
+    first /= np.linalg.norm(first)
+    return np.array([first, np.cross(direction, first)])
 
 
 def joint_state(

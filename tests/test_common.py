@@ -11,6 +11,7 @@ from problems.common import (
     check_robot,
     joint_state,
     non_negative,
+    normal_pair,
     positive,
     resolve_limits,
     unit_vector,
@@ -41,3 +42,13 @@ def test_check_robot_and_limits():
     assert resolve_limits(robot, None) is robot.limits
     with pytest.raises(InvalidInputError, match="needs the 'sawyer' robot"):
         check_robot(robot, "sawyer")
+
+
+def test_normal_pair_completes_a_right_handed_orthonormal_basis():
+    rng = np.random.default_rng(41)
+    for direction in [*np.eye(3), *rng.normal(size=(50, 3))]:
+        d = direction / np.linalg.norm(direction)
+        first, second = normal_pair(d)
+        basis = np.array([d, first, second])
+        np.testing.assert_allclose(basis @ basis.T, np.eye(3), atol=1e-12)
+        np.testing.assert_allclose(np.cross(d, first), second, atol=1e-12)
