@@ -121,11 +121,8 @@ def joint_min_durations(
     inp = _input(
         box,
         q0,
-        v0,
-        a0,
         q1,
-        v1,
-        a1,
+        (v0.tolist(), a0.tolist(), v1.tolist(), a1.tolist()),
         synchronization=ruckig.Synchronization.No,
         minimum_duration=None,
     )

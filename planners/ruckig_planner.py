@@ -17,20 +17,26 @@ This module offers
   brake after a strike;
 * :class:`OnlineRuckig`, one control tick at a time, for controllers.
 
-Limits are checked twice: the start and target states are validated before Ruckig runs
-(a target that no motion within the limits can reach raises :class:`InfeasibleError` naming
-the joint), and the finished trajectory's exact peaks are compared with every limit, the
-position limits included (Ruckig's open-source version does not plan around them), so a
-trajectory that breaks a limit is never returned silently.
+Limits are checked three times. The start and target states are validated before Ruckig
+runs (a target that no motion within the limits can reach raises :class:`InfeasibleError`
+naming the joint). The position limits, which Ruckig's open-source version does not plan
+around, are checked exactly when a move is planned. And the exact peaks of the finished
+polynomials are compared with every limit. Ruckig plans in microseconds while building the
+polynomials takes about half a millisecond, so a checked move's polynomials are built on first
+use (:meth:`Trajectory.deferred`); the duration, phases and metadata are there at once. A
+trajectory that breaks a limit is never handed out: a breach found at that first use (which
+would be a fault of Ruckig's) raises :class:`SolverError`.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 import re
+import threading
 import time
 from collections.abc import Iterable, Mapping, Sequence
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import ruckig
@@ -38,7 +44,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError, SolverError, UnknownNameError
 from optraj.validation import as_positive, as_vector
-from planners.base import JointProfile, rest_to_rest_inputs, stamp
+from planners.base import JointProfile, rest_to_rest_inputs
 from planners.trajectory import Phase, Trajectory
 from problems import PointToPoint
 from robots import JointLimits
@@ -74,6 +80,11 @@ _ABSOLUTE_SLACK = 1e-12
 _MIN_SEGMENT = 1e-12
 #: Results that carry a usable trajectory.
 _GOOD = (ruckig.Result.Working, ruckig.Result.Finished)
+#: Ruckig's control interfaces by name: move to a target state, or only to a velocity.
+_INTERFACES = {
+    "position": ruckig.ControlInterface.Position,
+    "velocity": ruckig.ControlInterface.Velocity,
+}
 
 
 # --------------------------------------------------------------------------- validation
@@ -148,34 +159,40 @@ def _check_state(
             are judged strictly, as Ruckig judges them; starts with round-off slack, as
             the finished trajectory is.
     """
-    bound = (lambda limit: limit) if arriving else _bound
-    for j, name in enumerate(limits.names):
+    floats = limits.floats
+    states = zip(qd.tolist(), qdd.tolist(), strict=True)
+    # Python floats: seven joints cost less this way than in NumPy calls.
+    for j, (velocity, acceleration) in enumerate(states):
+        speed_limit = floats["velocity"][j]
+        velocity_bound = speed_limit if arriving else speed_limit * (1.0 + _SLACK) + _ABSOLUTE_SLACK
+        swing = acceleration * abs(acceleration) / (2.0 * floats["jerk"][j])
+        implied = velocity - swing if arriving else velocity + swing
         for quantity, value, allowed in (
-            ("velocity", qd[j], limits.velocity[j]),
-            ("acceleration", qdd[j], limits.acceleration[j]),
+            ("velocity", velocity, speed_limit),
+            ("acceleration", acceleration, floats["acceleration"][j]),
         ):
-            if abs(value) > bound(allowed):
+            bound = allowed if arriving else allowed * (1.0 + _SLACK) + _ABSOLUTE_SLACK
+            if abs(value) > bound:
                 raise InfeasibleError(
                     f"{label} {quantity} {value:.6g} {limits.unit(quantity, j)} of joint "
-                    f"{name!r} exceeds its limit {allowed:.6g} {limits.unit(quantity, j)}",
+                    f"{limits.names[j]!r} exceeds its limit {allowed:.6g} "
+                    f"{limits.unit(quantity, j)}",
                     limit=quantity,
-                    joint=name,
-                    required=float(abs(value)),
-                    allowed=float(allowed),
+                    joint=limits.names[j],
+                    required=abs(value),
+                    allowed=allowed,
                 )
-        swing = qdd[j] * abs(qdd[j]) / (2.0 * limits.jerk[j])
-        implied = qd[j] - swing if arriving else qd[j] + swing
-        if abs(implied) > bound(limits.velocity[j]):
+        if abs(implied) > velocity_bound:
             when = "before it arrives at" if arriving else "after it leaves"
             raise InfeasibleError(
-                f"joint {name!r} reaches a velocity of {implied:.6g} "
+                f"joint {limits.names[j]!r} reaches a velocity of {implied:.6g} "
                 f"{limits.unit('velocity', j)} {when} its {label} state (velocity "
-                f"{qd[j]:.6g}, acceleration {qdd[j]:.6g}) with jerk limit "
-                f"{limits.jerk[j]:.6g}; its velocity limit is {limits.velocity[j]:.6g}",
+                f"{velocity:.6g}, acceleration {acceleration:.6g}) with jerk limit "
+                f"{floats['jerk'][j]:.6g}; its velocity limit is {speed_limit:.6g}",
                 limit="velocity",
-                joint=name,
-                required=float(abs(implied)),
-                allowed=float(limits.velocity[j]),
+                joint=limits.names[j],
+                required=abs(implied),
+                allowed=speed_limit,
             )
 
 
@@ -185,29 +202,43 @@ def _check_state(
 def _input(
     limits: JointLimits,
     q0: FloatArray,
-    qd0: FloatArray,
-    qdd0: FloatArray,
     q1: FloatArray,
-    qd1: FloatArray,
-    qdd1: FloatArray,
+    states: tuple[list[float], list[float], list[float], list[float]] | None,
     *,
     synchronization: ruckig.Synchronization,
     minimum_duration: float | None,
     interface: ruckig.ControlInterface = ruckig.ControlInterface.Position,
 ) -> ruckig.InputParameter:
-    """Ruckig's input for one move (states in the joint units, limits from ``limits``)."""
+    """Ruckig's input for one move (states in the joint units, limits from ``limits``).
+
+    Args:
+        limits: Velocity, acceleration and jerk limits.
+        q0: Start positions, shape (n,).
+        q1: Target positions, shape (n,).
+        states: Start velocities and accelerations, target velocities and accelerations,
+            or None for rest at both ends (Ruckig's default).
+        synchronization: Ruckig's synchronisation option.
+        minimum_duration: Shortest duration [s], or None.
+        interface: Ruckig's control interface.
+    """
     inp = ruckig.InputParameter(limits.n)
-    inp.control_interface = interface
-    inp.synchronization = synchronization
+    if interface != ruckig.ControlInterface.Position:
+        inp.control_interface = interface
+    if synchronization != ruckig.Synchronization.Time:
+        inp.synchronization = synchronization
     inp.current_position = q0.tolist()
-    inp.current_velocity = qd0.tolist()
-    inp.current_acceleration = qdd0.tolist()
     inp.target_position = q1.tolist()
-    inp.target_velocity = qd1.tolist()
-    inp.target_acceleration = qdd1.tolist()
-    inp.max_velocity = limits.velocity.tolist()
-    inp.max_acceleration = limits.acceleration.tolist()
-    inp.max_jerk = limits.jerk.tolist()
+    if states is not None:
+        (
+            inp.current_velocity,
+            inp.current_acceleration,
+            inp.target_velocity,
+            inp.target_acceleration,
+        ) = states
+    floats = limits.floats
+    inp.max_velocity = floats["velocity"]
+    inp.max_acceleration = floats["acceleration"]
+    inp.max_jerk = floats["jerk"]
     if minimum_duration is not None:
         inp.minimum_duration = minimum_duration
     return inp
@@ -227,6 +258,30 @@ def _ruckig_error(exc: Exception, limits: JointLimits) -> Exception:
     return SolverError("ruckig", type(exc).__name__, detail=text)
 
 
+class _Calculators(threading.local):
+    """Ruckig calculators by joint count, one set per thread.
+
+    Building a calculator costs about as much as an offline calculation, which starts
+    afresh from its input every time (results do not depend on earlier calls); a
+    calculator holds scratch space, so threads do not share one.
+    """
+
+    def __init__(self) -> None:
+        self.by_dof: dict[int, ruckig.Ruckig] = {}
+
+
+_CALCULATORS = _Calculators()
+
+
+def _calculator(n: int) -> ruckig.Ruckig:
+    """This thread's Ruckig calculator for n joints (offline use only)."""
+    calculators = _CALCULATORS.by_dof
+    calculator = calculators.get(n)
+    if calculator is None:
+        calculator = calculators[n] = ruckig.Ruckig(n)
+    return calculator
+
+
 def _calculate(inp: ruckig.InputParameter, limits: JointLimits) -> ruckig.Trajectory:
     """Run Ruckig's offline calculation.
 
@@ -236,7 +291,7 @@ def _calculate(inp: ruckig.InputParameter, limits: JointLimits) -> ruckig.Trajec
     """
     native = ruckig.Trajectory(limits.n)
     try:
-        result = ruckig.Ruckig(limits.n).calculate(inp, native)
+        result = _calculator(limits.n).calculate(inp, native)
     except (ruckig.RuckigError, RuntimeError) as exc:  # RuckigError is a bare Exception
         raise _ruckig_error(exc, limits) from exc
     if result not in _GOOD:
@@ -313,6 +368,18 @@ def native_to_trajectory(
         SolverError: A Ruckig profile this conversion does not know (an acceleration
             post-profile, unused by Ruckig 0.19's ``at_time``).
     """
+    breaks, coefficients = _native_pieces(native)
+    return Trajectory(
+        breaks, coefficients, joint_names=joint_names, phases=phases, metadata=metadata
+    )
+
+
+def _native_pieces(native: ruckig.Trajectory) -> tuple[FloatArray, FloatArray]:
+    """The polynomials of a Ruckig trajectory (see :func:`native_to_trajectory`).
+
+    Returns:
+        Breakpoints [s], shape (K + 1,), and cubic coefficients, shape (K, 4, n).
+    """
     duration = float(native.duration)
     if not (math.isfinite(duration) and duration > 0.0):
         raise InvalidInputError(
@@ -361,24 +428,104 @@ def native_to_trajectory(
         coefficients[:, 1, dof] = v + tau * (a + tau * jerk / 2.0)
         coefficients[:, 2, dof] = (a + tau * jerk) / 2.0
         coefficients[:, 3, dof] = jerk / 6.0
-    return Trajectory(
-        breaks, coefficients, joint_names=joint_names, phases=phases, metadata=metadata
-    )
+    return breaks, coefficients
 
 
 # ------------------------------------------------------------------------- limit checks
 
 
-def _violations(traj: Trajectory, limits: JointLimits) -> list[InfeasibleError]:
+def _position_error(
+    limits: JointLimits, j: int, value: float, when: float, upper: bool
+) -> InfeasibleError:
+    """Joint j reaching ``value`` [rad or m] at ``when`` [s], past one of its position limits."""
+    name = limits.names[j]
+    bound = float(limits.upper[j] if upper else limits.lower[j])
+    side = "above its upper" if upper else "below its lower"
+    return InfeasibleError(
+        f"joint {name!r} reaches {value:.6g} {limits.unit('position', j)} at t = {when:.4g} s, "
+        f"{side} position limit {bound:.6g}",
+        limit="position",
+        joint=name,
+        required=float(value),
+        allowed=bound,
+    )
+
+
+def _position_slack(limits: JointLimits) -> FloatArray:
+    """Round-off allowed past each position limit [rad or m], as the checker allows it."""
+    return _SLACK * (limits.upper - limits.lower) + _ABSOLUTE_SLACK
+
+
+def _position_breach(
+    native: ruckig.Trajectory, limits: JointLimits, start: FloatArray, goal: FloatArray | None
+) -> InfeasibleError | None:
+    """The first position limit a move passes, exactly; None when it passes none.
+
+    Ruckig's ``position_extrema`` cannot be used: in 0.19 it misses extrema inside
+    constant-acceleration phases (pantor/ruckig#215; here 0.15 rad on a Sawyer wrist move).
+    Instead, a joint is first bounded by its speed limit alone: over a move of duration T
+    from p0 to p1 it stays within (p0 + p1 -/+ v_max T) / 2. Only where that bound reaches
+    past a limit is Ruckig asked when the joint first gets there
+    (``get_first_time_at_position``, which solves each phase's cubic; it ignores a brake
+    pre-profile, which a start state within the limits does not have). When it names a
+    time, the exact check on the polynomials (:func:`_violations`) decides.
+
+    Args:
+        native: The computed move.
+        limits: Its limits.
+        start: Start positions, shape (n,).
+        goal: End positions, shape (n,), or None when the end is free (a stop): then every
+            joint is asked.
+    """
+    floats = limits.floats
+    # Twice the bound's half-width per unit speed [s]; unbounded when the end is free.
+    width = math.inf if goal is None else float(native.duration) * (1.0 + _SLACK)
+    ends = start if goal is None else goal
+    first_time = native.get_first_time_at_position
+    joints = zip(
+        start.tolist(),
+        ends.tolist(),
+        floats["lower"],
+        floats["upper"],
+        floats["velocity"],
+        strict=True,
+    )
+    for j, (p0, p1, lower, upper, speed) in enumerate(joints):
+        twice_middle = p0 + p1
+        spread = speed * width
+        # The limits' round-off slack is _position_slack's, computed only when needed.
+        if twice_middle - spread < lower + lower and (
+            first_time(j, lower - _SLACK * (upper - lower) - _ABSOLUTE_SLACK) is not None
+        ):
+            break
+        if twice_middle + spread > upper + upper and (
+            first_time(j, upper + _SLACK * (upper - lower) + _ABSOLUTE_SLACK) is not None
+        ):
+            break
+    else:
+        return None
+    # Rare: settle it on the polynomials. Ruckig's root finder can also report a crossing
+    # that is not there (a joint starting at rest on a limit), so its answer only selects.
+    knots, coefficients = _native_pieces(native)
+    for error in _violations(knots, coefficients, limits):
+        if error.limit == "position":
+            return error
+    return None
+
+
+def _violations(knots: FloatArray, c: FloatArray, limits: JointLimits) -> list[InfeasibleError]:
     """Exact peaks of a piecewise cubic against every joint limit; one error per breach.
+
+    Args:
+        knots: Breakpoints [s], shape (K + 1,).
+        c: Coefficients, shape (K, 4, n), as :class:`Trajectory` stores them.
+        limits: The limits.
 
     Velocity peaks lie at segment ends or at the vertex of the quadratic, position extremes
     at segment ends or where the velocity vanishes; acceleration is linear and jerk constant
     on each segment. Candidate times outside a segment are replaced by its start (already a
     candidate), so no masking is needed.
     """
-    knots = traj.breakpoints
-    c = traj.coefficients
     c0, c1, c2, c3 = (c[:, i, :] for i in range(4))  # each (K, n)
     h = np.broadcast_to(np.diff(knots)[:, None], c0.shape)
     zero = np.zeros_like(c0)
@@ -398,26 +545,13 @@ def _violations(traj: Trajectory, limits: JointLimits) -> list[InfeasibleError]:
     taus = np.stack([zero, h, first, second])  # (m, K, n)
     values = (c0 + taus * (c1 + taus * (c2 + taus * c3))).reshape(-1, c0.shape[1])
     times = (knots[:-1, None] + taus).reshape(values.shape)
-    slack = _SLACK * (limits.upper - limits.lower) + _ABSOLUTE_SLACK
-    for sign, bound, side in (
-        (-1.0, limits.lower, "below its lower"),
-        (1.0, limits.upper, "above its upper"),
-    ):
+    slack = _position_slack(limits)
+    for sign, bound in ((-1.0, limits.lower), (1.0, limits.upper)):
         worst = np.argmax(sign * values, axis=0)
         extreme = values[worst, np.arange(limits.n)]
         for j in np.flatnonzero(sign * (extreme - bound) > slack).tolist():
-            name = limits.names[j]
             when = float(times[worst[j], j])
-            errors.append(
-                InfeasibleError(
-                    f"joint {name!r} reaches {extreme[j]:.6g} {limits.unit('position', j)} at "
-                    f"t = {when:.4g} s, {side} position limit {bound[j]:.6g}",
-                    limit="position",
-                    joint=name,
-                    required=float(extreme[j]),
-                    allowed=float(bound[j]),
-                )
-            )
+            errors.append(_position_error(limits, j, float(extreme[j]), when, upper=sign > 0))
     # Velocity, acceleration, jerk: magnitudes.
     for quantity, taus_q, evaluate in (
         ("velocity", np.stack([zero, h, vertex]), lambda t: c1 + t * (2 * c2 + 3 * t * c3)),
@@ -446,43 +580,127 @@ def _violations(traj: Trajectory, limits: JointLimits) -> list[InfeasibleError]:
     return errors
 
 
+def _checked_pieces(
+    native: ruckig.Trajectory, limits: JointLimits
+) -> tuple[FloatArray, FloatArray]:
+    """The polynomials of a move whose start state was within the limits, checked exactly.
+
+    Ruckig keeps such a move within the velocity, acceleration and jerk limits by
+    construction, and its positions were checked when it was planned (from rest to rest:
+    they lie between the start and the target); a breach found here would be a fault of
+    Ruckig's, reported as one rather than returned.
+
+    Raises:
+        SolverError: The polynomials break a limit.
+    """
+    knots, coefficients = _native_pieces(native)
+    errors = _violations(knots, coefficients, limits)
+    if errors:
+        raise SolverError("ruckig", "limits exceeded", detail=str(errors[0]))
+    return knots, coefficients
+
+
 # ------------------------------------------------------------------------------ moves
 
 
-def _finish(
-    native: ruckig.Trajectory,
+def _move(
     limits: JointLimits,
+    start: FloatArray,
+    v0: FloatArray,
+    a0: FloatArray | None,
+    goal: FloatArray,
+    v1: FloatArray,
+    a1: FloatArray | None,
     *,
     started: float,
-    phase: str,
+    synchronization: str,
+    minimum_duration: float | None,
     check_limits: bool,
     joint_names: Sequence[str] | None,
-    extra: Mapping[str, Any],
+    interface: str = "position",
 ) -> Trajectory:
-    """Convert, check against the limits, and stamp the metadata."""
-    if native.duration <= 0.0:
+    """Plan one move from validated states (positions within their limits).
+
+    Accelerations of None are zero. With ``check_limits`` the start state must be within the
+    limits; the result is then exact and checked, but its polynomials are built on first
+    use (:meth:`Trajectory.deferred`), since Ruckig plans in microseconds and the conversion
+    costs more. Without it, the polynomials are built and every breach is listed at once.
+    """
+    n = limits.n
+    zeros = np.zeros(n)
+    a0 = zeros if a0 is None else a0
+    a1 = zeros if a1 is None else a1
+    # Lists: testing seven floats in Python is cheaper than one NumPy call.
+    states = (v0.tolist(), a0.tolist(), v1.tolist(), a1.tolist())
+    moving = any(any(values) for values in states)
+    if moving:
+        _check_unsynchronised(synchronization, v1, a1)
+        if check_limits:
+            _check_state(v0, a0, limits, "start", arriving=False)
+        _check_state(v1, a1, limits, "target", arriving=True)
+    inp = _input(
+        limits,
+        start,
+        goal,
+        states if moving else None,
+        synchronization=_synchronization(synchronization),
+        minimum_duration=minimum_duration,
+        interface=_INTERFACES[interface],
+    )
+    native = _calculate(inp, limits)
+    duration = float(native.duration)
+    if duration <= 0.0:
+        if interface == "velocity":
+            raise InvalidInputError("nothing to stop: the joints are already at rest", name="qd0")
         raise InvalidInputError(
             "nothing to move: the start state is the target state; give a minimum_duration "
             "to hold it",
             name="q_goal",
         )
+    stopping = interface == "velocity"
+    if check_limits:
+        # From rest to rest a joint stays between its start and its target, both within
+        # the limits: Ruckig does not overshoot a target at rest (its author,
+        # pantor/ruckig#22), nor, in our tests, back off its start. Any other move is
+        # checked here; every move's polynomials are checked again when first built.
+        breach = (
+            _position_breach(native, limits, start, None if stopping else goal) if moving else None
+        )
+        if breach is not None:
+            raise breach
+        errors: list[InfeasibleError] = []
+    else:
+        knots, coefficients = _native_pieces(native)
+        errors = _violations(knots, coefficients, limits)
+    # The metadata that planners.base.stamp writes, assembled in one go (this path is timed
+    # against Ruckig itself, in microseconds).
+    metadata = {
+        "planner": "ruckig",
+        "status": "limits exceeded" if errors else "ok",
+        "limit_violations": [str(error) for error in errors],
+        "independent_min_durations": np.array(native.independent_min_durations, dtype=float),
+        "native": native,
+        "synchronization": synchronization,
+    }
+    if stopping:
+        metadata["interface"] = interface
+    else:
+        metadata["minimum_duration"] = minimum_duration
     names = limits.names if joint_names is None else tuple(joint_names)
-    traj = native_to_trajectory(
-        native, joint_names=names, phases=[Phase(phase, 0.0, float(native.duration))]
-    )
-    errors = _violations(traj, limits)
-    if errors and check_limits:
-        raise errors[0]
-    return stamp(
-        traj,
-        "ruckig",
-        started,
-        status="ok" if not errors else "limits exceeded",
-        limit_violations=[str(error) for error in errors],
-        independent_min_durations=np.asarray(native.independent_min_durations, dtype=float),
-        native=native,
-        **extra,
-    )
+    phases = (Phase("stop" if stopping else "move", 0.0, duration),)
+    if check_limits:
+        traj = Trajectory.deferred(
+            duration,
+            n,
+            functools.partial(_checked_pieces, native, limits),
+            joint_names=names,
+            phases=phases,
+            metadata=metadata,
+        )
+    else:
+        traj = Trajectory(knots, coefficients, joint_names=names, phases=phases, metadata=metadata)
+    traj.metadata["solve_time"] = time.perf_counter() - started
+    return traj
 
 
 def state_to_state(
@@ -523,6 +741,8 @@ def state_to_state(
         (``"ruckig"``), ``solve_time`` [s], ``status``, ``independent_min_durations`` [s]
         (shape (n,), each joint's own fastest time), ``synchronization``,
         ``minimum_duration``, ``limit_violations`` and ``native`` (the ``ruckig.Trajectory``).
+        With ``check_limits`` its polynomials are built on first use (the duration,
+        phases and metadata are there at once; see :meth:`Trajectory.deferred`).
 
     Raises:
         InfeasibleError: A start or target state out of the limits or out of reach within
@@ -536,31 +756,26 @@ def state_to_state(
     """
     started = time.perf_counter()
     limits = _limits(limits)
-    sync = _synchronization(synchronization)
+    _synchronization(synchronization)
     minimum = _minimum_duration(minimum_duration)
     n = limits.n
     start = as_vector(q0, "q0", n)
     goal = as_vector(q1, "q1", n)
     limits.check_position(start, tolerance=1e-9, context="start position")
     limits.check_position(goal, tolerance=1e-9, context="target position")
-    v0, a0 = _optional(qd0, "qd0", n), _optional(qdd0, "qdd0", n)
-    v1, a1 = _optional(qd1, "qd1", n), _optional(qdd1, "qdd1", n)
-    _check_unsynchronised(synchronization, v1, a1)
-    if check_limits:
-        _check_state(v0, a0, limits, "start", arriving=False)
-    _check_state(v1, a1, limits, "target", arriving=True)
-    inp = _input(
-        limits, start, v0, a0, goal, v1, a1, synchronization=sync, minimum_duration=minimum
-    )
-    native = _calculate(inp, limits)
-    return _finish(
-        native,
+    return _move(
         limits,
+        start,
+        _optional(qd0, "qd0", n),
+        _optional(qdd0, "qdd0", n),
+        goal,
+        _optional(qd1, "qd1", n),
+        _optional(qdd1, "qdd1", n),
         started=started,
-        phase="move",
+        synchronization=synchronization,
+        minimum_duration=minimum,
         check_limits=check_limits,
         joint_names=joint_names,
-        extra={"synchronization": synchronization, "minimum_duration": minimum},
     )
 
 
@@ -604,37 +819,25 @@ def stop(
     """
     started = time.perf_counter()
     limits = _limits(limits)
-    sync = _synchronization(synchronization)
+    _synchronization(synchronization)
     n = limits.n
     start = as_vector(q0, "q0", n)
     limits.check_position(start, tolerance=1e-9, context="start position")
-    v0, a0 = as_vector(qd0, "qd0", n), _optional(qdd0, "qdd0", n)
-    if check_limits:
-        _check_state(v0, a0, limits, "start", arriving=False)
     zeros = np.zeros(n)
-    inp = _input(
+    traj = _move(
         limits,
         start,
-        v0,
-        a0,
+        as_vector(qd0, "qd0", n),
+        _optional(qdd0, "qdd0", n),
         start,
         zeros,
         zeros,
-        synchronization=sync,
-        minimum_duration=None,
-        interface=ruckig.ControlInterface.Velocity,
-    )
-    native = _calculate(inp, limits)
-    if native.duration <= 0.0:
-        raise InvalidInputError("nothing to stop: the joints are already at rest", name="qd0")
-    traj = _finish(
-        native,
-        limits,
         started=started,
-        phase="stop",
+        synchronization=synchronization,
+        minimum_duration=None,
         check_limits=check_limits,
         joint_names=joint_names,
-        extra={"synchronization": synchronization, "interface": "velocity"},
+        interface="velocity",
     )
     traj.metadata["stop_position"] = traj.sample(traj.duration).q
     return traj
@@ -642,6 +845,10 @@ def stop(
 
 class Ruckig(JointProfile):
     """Time-optimal jerk-limited moves, rest-to-rest or between moving states.
+
+    Results are exact piecewise cubics, checked against every limit; their polynomials are
+    built on first use (:meth:`Trajectory.deferred`), so planning costs little more than
+    Ruckig itself.
 
     Args:
         synchronization: How the joints are coordinated, one of :data:`SYNCHRONIZATIONS`:
@@ -709,7 +916,8 @@ class Ruckig(JointProfile):
         """Plan a :class:`problems.PointToPoint`, which may start and end moving.
 
         Unprescribed accelerations (None) are taken as zero; the problem's duration, if
-        any, is a minimum duration.
+        any, is a minimum duration. The problem has already checked its states' shapes and
+        positions, so only what Ruckig needs beyond that is checked here.
 
         Raises:
             InvalidInputError: Not a PointToPoint.
@@ -724,20 +932,24 @@ class Ruckig(JointProfile):
             )
         started = time.perf_counter()
         limits = _limits(problem.limits)
-        traj = state_to_state(
-            problem.q_start,
-            problem.qd_start,
-            problem.qdd_start,
-            problem.q_goal,
-            problem.qd_goal,
-            problem.qdd_goal,
+        minimum = self.minimum_duration
+        if problem.duration is not None:
+            minimum = _minimum_duration(problem.duration, minimum)
+        # PointToPoint stores its states as validated float arrays (velocities zero at rest).
+        return _move(
             limits,
+            cast(FloatArray, problem.q_start),
+            cast(FloatArray, problem.qd_start),
+            cast("FloatArray | None", problem.qdd_start),
+            cast(FloatArray, problem.q_goal),
+            cast(FloatArray, problem.qd_goal),
+            cast("FloatArray | None", problem.qdd_goal),
+            started=started,
             synchronization=self.synchronization,
-            minimum_duration=_minimum_duration(problem.duration, self.minimum_duration),
+            minimum_duration=minimum,
+            check_limits=True,
             joint_names=limits.names,
         )
-        traj.metadata["solve_time"] = time.perf_counter() - started
-        return traj
 
 
 class OnlineRuckig:
@@ -793,14 +1005,12 @@ class OnlineRuckig:
         self.limits.check_position(position, tolerance=1e-9, context="reset position")
         velocity, acceleration = _optional(qd, "qd", n), _optional(qdd, "qdd", n)
         _check_state(velocity, acceleration, self.limits, "start", arriving=False)
+        zeros = [0.0] * n
         self._inp = _input(
             self.limits,
             position,
-            velocity,
-            acceleration,
             position,
-            np.zeros(n),
-            np.zeros(n),
+            (velocity.tolist(), acceleration.tolist(), zeros, zeros),
             synchronization=self._sync,
             minimum_duration=None,
         )

@@ -15,16 +15,16 @@ import csv
 import json
 import math
 import pickle
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, UnknownNameError
-from optraj.validation import as_array, as_vector
+from optraj.validation import as_array, as_count, as_vector
 
 __all__ = ["Phase", "Trajectory", "TrajectorySample"]
 
@@ -97,6 +97,40 @@ def _derivative(coefficients: FloatArray) -> FloatArray:
     return coefficients[:, 1:, :] * powers
 
 
+def _derivatives(coefficients: FloatArray) -> list[FloatArray]:
+    """Coefficients of a polynomial and of its first three time derivatives."""
+    result = [coefficients]
+    for _ in range(3):
+        result.append(_derivative(result[-1]))
+    return result
+
+
+def _validated(breakpoints: ArrayLike, coefficients: ArrayLike) -> tuple[FloatArray, FloatArray]:
+    """Breakpoints and coefficients checked against each other, as read-only arrays."""
+    knots = as_vector(breakpoints, "breakpoints")
+    coeffs = as_array(coefficients, "coefficients", (None, None, None))
+    if knots.size < 2 or coeffs.shape[0] != knots.size - 1:
+        raise InvalidInputError(
+            f"coefficients must have one row per segment: {knots.size} breakpoints need "
+            f"shape ({knots.size - 1}, degree + 1, n), got {coeffs.shape}",
+            name="coefficients",
+        )
+    if coeffs.shape[1] < 1 or coeffs.shape[2] < 1:
+        raise InvalidInputError(
+            f"coefficients must have at least one term and one joint, got {coeffs.shape}",
+            name="coefficients",
+        )
+    if knots[0] != 0.0 or np.any(np.diff(knots) <= 0.0):
+        raise InvalidInputError(
+            "breakpoints must start at 0 s and strictly increase, got "
+            f"{np.array2string(knots, precision=6, threshold=8)}",
+            name="breakpoints",
+        )
+    for array in (knots, coeffs):
+        array.setflags(write=False)
+    return knots, coeffs
+
+
 def _jsonable(value: Any) -> Any:
     """Metadata value as plain JSON data, or ``None`` when it has no JSON form."""
     if isinstance(value, (str, bool, int)) or value is None:
@@ -141,37 +175,67 @@ class Trajectory:
         phases: Iterable[Phase] = (),
         metadata: Mapping[str, Any] | None = None,
     ) -> None:
-        knots = as_vector(breakpoints, "breakpoints")
-        coeffs = as_array(coefficients, "coefficients", (None, None, None))
-        if knots.size < 2 or coeffs.shape[0] != knots.size - 1:
-            raise InvalidInputError(
-                f"coefficients must have one row per segment: {knots.size} breakpoints need "
-                f"shape ({knots.size - 1}, degree + 1, n), got {coeffs.shape}",
-                name="coefficients",
-            )
-        if coeffs.shape[1] < 1 or coeffs.shape[2] < 1:
-            raise InvalidInputError(
-                f"coefficients must have at least one term and one joint, got {coeffs.shape}",
-                name="coefficients",
-            )
-        if knots[0] != 0.0 or np.any(np.diff(knots) <= 0.0):
-            raise InvalidInputError(
-                "breakpoints must start at 0 s and strictly increase, got "
-                f"{np.array2string(knots, precision=6, threshold=8)}",
-                name="breakpoints",
-            )
-        n = coeffs.shape[2]
+        knots, coeffs = _validated(breakpoints, coefficients)
+        self._build: Callable[[], tuple[ArrayLike, ArrayLike]] | None = None
+        self._pieces: tuple[FloatArray, list[FloatArray]] | None = (knots, _derivatives(coeffs))
+        self._duration = float(knots[-1])
+        self._describe(coeffs.shape[2], joint_names, phases, metadata)
+
+    @classmethod
+    def deferred(
+        cls,
+        duration: float,
+        dof: int,
+        build: Callable[[], tuple[ArrayLike, ArrayLike]],
+        *,
+        joint_names: Sequence[str] | None = None,
+        phases: Iterable[Phase] = (),
+        metadata: Mapping[str, Any] | None = None,
+    ) -> Trajectory:
+        """A trajectory of known duration whose polynomials are computed on first use.
+
+        For planners whose own result is exact but costly to expand into polynomials (Ruckig's
+        phase lists): the duration, joint names, phases and metadata are there at once, and
+        ``build`` runs once, the first time anything needs the polynomials (sampling,
+        ``breakpoints``, ``coefficients``, export, pickling). Its result is checked as the
+        constructor checks its arguments and must end at ``duration``.
+
+        Args:
+            duration: Total time [s], > 0.
+            dof: Number of joints, >= 1.
+            build: Returns ``(breakpoints, coefficients)`` as for the constructor. An error
+                it raises reaches the caller of that first use.
+            joint_names: As for the constructor.
+            phases: As for the constructor.
+            metadata: As for the constructor.
+
+        Raises:
+            InvalidInputError: A duration that is not > 0, a dof < 1, or names or phases that
+                do not fit; later, a ``build`` result that does not fit.
+        """
+        if not (isinstance(duration, (int, float)) and math.isfinite(duration) and duration > 0):
+            raise InvalidInputError(f"duration must be > 0 s, got {duration!r}", name="duration")
+        traj = cls.__new__(cls)
+        traj._build = build
+        traj._pieces = None
+        traj._duration = float(duration)
+        traj._describe(as_count(dof, "dof", 1), joint_names, phases, metadata)
+        return traj
+
+    def _describe(
+        self,
+        n: int,
+        joint_names: Sequence[str] | None,
+        phases: Iterable[Phase],
+        metadata: Mapping[str, Any] | None,
+    ) -> None:
+        """Set the joint names, phases and metadata of a trajectory of n joints."""
         names = tuple(joint_names) if joint_names is not None else tuple(f"q{j}" for j in range(n))
         if len(names) != n:
             raise InvalidInputError(
                 f"joint_names must name the {n} joints, got {len(names)} names", name="joint_names"
             )
-        for array in (knots, coeffs):
-            array.setflags(write=False)
-        self._knots = knots
-        self._coeffs = [coeffs]
-        for _ in range(3):
-            self._coeffs.append(_derivative(self._coeffs[-1]))
+        self._dof = n
         self.joint_names: tuple[str, ...] = names
         self.phases: tuple[Phase, ...] = tuple(phases)
         for phase in self.phases:
@@ -183,12 +247,41 @@ class Trajectory:
                 )
         self.metadata: dict[str, Any] = dict(metadata or {})
 
+    def _expand(self) -> tuple[FloatArray, list[FloatArray]]:
+        """Breakpoints and the coefficients of q and its three derivatives (built once)."""
+        pieces = self._pieces
+        if pieces is None:
+            # Without polynomials a trajectory always has its builder.
+            build = cast(Callable[[], tuple[ArrayLike, ArrayLike]], self._build)
+            knots, coeffs = _validated(*build())
+            if knots[-1] != self._duration or coeffs.shape[2] != self._dof:
+                raise InvalidInputError(
+                    f"a deferred trajectory of {self._duration!r} s and {self._dof} joints was "
+                    f"built with {knots[-1]!r} s and {coeffs.shape[2]} joints",
+                    name="build",
+                )
+            pieces = (knots, _derivatives(coeffs))
+            self._pieces = pieces
+            self._build = None
+        return pieces
+
+    @property
+    def _knots(self) -> FloatArray:
+        return self._expand()[0]
+
+    @property
+    def _coeffs(self) -> list[FloatArray]:
+        return self._expand()[1]
+
     def __getstate__(self) -> dict[str, Any]:
         """Everything but the metadata values that cannot be pickled (Ruckig's own object).
 
         Plans can then be sent to worker processes; the dropped values stay in the original.
+        A deferred trajectory is built first (its builder need not pickle).
         """
+        self._expand()
         state = self.__dict__.copy()
+        state["_build"] = None
         kept = {}
         for key, value in self.metadata.items():
             try:
@@ -214,12 +307,12 @@ class Trajectory:
     @property
     def duration(self) -> float:
         """Total time [s]."""
-        return float(self._knots[-1])
+        return self._duration
 
     @property
     def dof(self) -> int:
         """Number of joints."""
-        return int(self._coeffs[0].shape[2])
+        return self._dof
 
     @property
     def degree(self) -> int:

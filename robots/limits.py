@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -88,6 +90,16 @@ class JointLimits:
                     f"joint {self.names[i]!r}: {name} limit must be > 0, got {values[i]:.6g}",
                     name=name,
                 )
+
+    @functools.cached_property
+    def floats(self) -> Mapping[str, tuple[float, ...]]:
+        """Each limit array as a tuple of Python floats, keyed by field name.
+
+        Keys are ``lower``, ``upper``, ``velocity``, ``acceleration``, ``jerk`` and
+        ``effort`` (units as the arrays). For libraries that take lists, and for per-joint
+        loops where NumPy scalars cost more than the work; computed once (limits are frozen).
+        """
+        return {name: tuple(getattr(self, name).tolist()) for name in _ARRAY_FIELDS}
 
     @property
     def n(self) -> int:

@@ -32,6 +32,15 @@ def test_arrays_are_read_only_floats():
         limits.velocity[0] = 9.0
 
 
+def test_floats_mirror_the_arrays_and_follow_a_replace():
+    limits = _limits()
+    assert limits.floats["upper"] == (1.0, 0.5) and limits.floats["jerk"] == (100.0, 20.0)
+    assert all(type(value) is float for value in limits.floats["effort"])
+    faster = limits.scaled(0.5, ("velocity",))
+    assert faster.floats["velocity"] == (1.0, 0.15)
+    assert limits.floats["velocity"] == (2.0, 0.3)
+
+
 @pytest.mark.parametrize(
     ("overrides", "match"),
     [

@@ -6,6 +6,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import pickle
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pytest
@@ -26,7 +27,11 @@ from planners.ruckig_planner import (
     SYNCHRONIZATIONS,
     OnlineRuckig,
     Ruckig,
+    _checked_pieces,
+    _native_pieces,
+    _position_breach,
     _ruckig_error,
+    _violations,
     native_to_trajectory,
     state_to_state,
     stop,
@@ -115,6 +120,99 @@ def test_random_state_to_state_moves_pass_the_checker_or_raise_typed_errors():
     # Few moves are out of reach: those that must overshoot a position limit.
     assert len(raised) <= 10, [str(exc) for exc in raised]
     assert all(exc.limit == "position" and exc.joint in robot.joint_names for exc in raised)
+
+
+def test_plan_time_position_check_agrees_with_the_exact_check():
+    # Moves planned without the checks, then judged both ways: the fast check at planning
+    # time (speed bound, then Ruckig's root finder) and the exact peaks of the polynomials.
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(11)
+    breaches = 0
+    disagreements = []
+    for k in range(600):
+        limits = _random_limits(robot, rng)
+        q0, q1 = _inner(limits, rng, 0.95), _inner(limits, rng, 0.95)
+        half = 0.8 * rng.uniform(-1.0, 1.0, size=(2, robot.dof))
+        qd0, qd1 = half[0] * limits.velocity, half[1] * limits.velocity
+        if k % 3 == 0:  # a stop: the end position is free
+            traj = stop(q0, qd0, None, limits, check_limits=False)
+            goal = None
+        else:
+            traj = state_to_state(q0, qd0, None, q1, qd1, None, limits, check_limits=False)
+            goal = q1
+        native = traj.metadata["native"]
+        exact = [e for e in _violations(*_native_pieces(native), limits) if e.limit == "position"]
+        fast = _position_breach(native, limits, q0, goal)
+        breaches += bool(exact)
+        if (fast is None) != (not exact) or (fast is not None and str(fast) != str(exact[0])):
+            disagreements.append((k, str(fast), [str(e) for e in exact]))
+    assert not disagreements, disagreements[:3]
+    assert breaches >= 60  # the check is exercised on both sides
+
+
+@pytest.mark.parametrize("name", ["sawyer", "youbot", "paddle4"])
+def test_rest_to_rest_moves_stay_between_start_and_target(name):
+    # The planner skips the position check for such moves on this property (its polynomials
+    # are still checked when built): judged here on the exact peaks, every synchronisation,
+    # with and without a minimum duration, joints that hardly move or stay put included.
+    robot = get_robot(name)
+    rng = np.random.default_rng(29)
+    for k in range(400):
+        limits = _random_limits(robot, rng, 0.1, 3.0)
+        q0, q1 = limits.sample(rng, 2)
+        if k % 5 == 0:
+            q1[: robot.dof // 2] = q0[: robot.dof // 2]
+        if k % 7 == 0:
+            q1 = np.clip(q0 + 1e-4 * rng.normal(size=robot.dof), limits.lower, limits.upper)
+        minimum = None if k % 3 else float(rng.uniform(0.1, 10.0))
+        sync = sorted(SYNCHRONIZATIONS)[k % len(SYNCHRONIZATIONS)]
+        traj = state_to_state(
+            q0, None, None, q1, None, None, limits, synchronization=sync, minimum_duration=minimum
+        )
+        box = dataclasses.replace(
+            limits, lower=np.minimum(q0, q1) - 1e-9, upper=np.maximum(q0, q1) + 1e-9
+        )
+        errors = _violations(traj.breakpoints, traj.coefficients, box)
+        assert not [e for e in errors if e.limit == "position"], (k, sync, minimum)
+
+
+def test_a_joint_starting_at_rest_on_its_limit_is_not_a_breach():
+    # Ruckig's root finder reports a crossing of the limit's round-off margin here.
+    limits = get_robot("paddle4").limits
+    q0 = np.array([0.45, 0.0, 0.0, 0.0])
+    q1 = np.array([0.6, 0.16162135518301302, 0.764296113818832, -0.16162135518301302])
+    qd1 = np.array([0.0, -0.04315801588214984, 0.49348383724057016, 0.04315801588214984])
+    traj = state_to_state(q0, None, None, q1, qd1, None, limits)
+    assert traj.sample(traj.times(2000.0)).q[:, 2].min() >= 0.0
+
+
+def test_polynomials_are_checked_again_when_first_built():
+    # A move planned for some limits, then built against tighter ones: the build refuses.
+    limits = get_robot("sawyer").limits
+    traj = state_to_state(np.zeros(7), None, None, np.full(7, 0.5), None, None, limits)
+    native = traj.metadata["native"]
+    knots, coefficients = _checked_pieces(native, limits)
+    np.testing.assert_array_equal(knots, traj.breakpoints)
+    np.testing.assert_array_equal(coefficients, traj.coefficients)
+    tighter = dataclasses.replace(limits, velocity=0.9 * limits.velocity)
+    with pytest.raises(SolverError, match=r"limits exceeded.*velocity"):
+        _checked_pieces(native, tighter)
+
+
+def test_plans_from_several_threads_equal_plans_from_one():
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(3)
+    moves = [
+        problems.PointToPoint(robot, *robot.limits.sample(rng, 2), limits=robot.limits)
+        for _ in range(200)
+    ]
+    planner = Ruckig()
+    serial = [planner.plan(move) for move in moves]
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        threaded = list(pool.map(planner.plan, moves))
+    for one, other in zip(serial, threaded, strict=True):
+        assert one.duration == other.duration
+        np.testing.assert_array_equal(one.coefficients, other.coefficients)
 
 
 # ------------------------------------------------------------------------ exact conversion

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import pickle
 
 import numpy as np
 import pytest
@@ -169,3 +170,57 @@ def test_sequence_names_one_phase_per_group_of_pieces():
     np.testing.assert_allclose(traj.sample([0.5, 1.7]).q[:, 0], [0.5, 1.0])
     with pytest.raises(InvalidInputError, match="at least one piece"):
         Trajectory.sequence([("idle", [])])
+
+
+def test_deferred_trajectory_is_built_once_on_first_use():
+    t, q, qd, _ = _random_states(4)
+    eager = Trajectory.from_hermite(t, q, qd)
+    calls = []
+
+    def build():
+        calls.append(1)
+        return eager.breakpoints, eager.coefficients
+
+    lazy = Trajectory.deferred(
+        eager.duration,
+        eager.dof,
+        build,
+        joint_names=["a", "b", "c"],
+        phases=[Phase("move", 0.0, eager.duration)],
+        metadata={"planner": "test"},
+    )
+    assert (lazy.duration, lazy.dof, lazy.joint_names) == (eager.duration, 3, ("a", "b", "c"))
+    assert lazy.phase("move").t_end == eager.duration and lazy.metadata["planner"] == "test"
+    assert not calls
+    times = np.linspace(0.0, eager.duration, 101)
+    for _ in range(2):
+        for got, want in zip(lazy.sample(times), eager.sample(times), strict=True):
+            np.testing.assert_array_equal(got, want)
+    assert len(calls) == 1
+    np.testing.assert_array_equal(lazy.breakpoints, eager.breakpoints)
+
+
+def test_deferred_trajectory_pickles_as_built():
+    t, q, qd, _ = _random_states(5)
+    eager = Trajectory.from_hermite(t, q, qd)
+    lazy = Trajectory.deferred(
+        eager.duration, eager.dof, lambda: (eager.breakpoints, eager.coefficients)
+    )
+    clone = pickle.loads(pickle.dumps(lazy))  # the lambda itself would not pickle
+    np.testing.assert_array_equal(clone.coefficients, eager.coefficients)
+    assert clone.duration == eager.duration
+
+
+@pytest.mark.parametrize(
+    ("duration", "dof", "match"),
+    [(0.0, 3, "duration"), (float("nan"), 3, "duration"), (1.0, 0, "dof")],
+)
+def test_deferred_trajectory_rejects_bad_descriptions(duration, dof, match):
+    with pytest.raises(InvalidInputError, match=match):
+        Trajectory.deferred(duration, dof, lambda: ([0.0, 1.0], np.zeros((1, 1, 3))))
+
+
+def test_deferred_build_that_does_not_fit_is_rejected_on_first_use():
+    lazy = Trajectory.deferred(2.0, 3, lambda: ([0.0, 1.0], np.zeros((1, 1, 3))))
+    with pytest.raises(InvalidInputError, match=r"deferred trajectory of 2\.0 s"):
+        lazy.sample(0.5)
