@@ -273,6 +273,21 @@ class Trajectory:
     def _coeffs(self) -> list[FloatArray]:
         return self._expand()[1]
 
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """Restore a pickled trajectory.
+
+        Pickles made before deferred building existed stored ``_knots`` and ``_coeffs``.
+        """
+        if "_pieces" not in state:
+            knots, coeffs = state.pop("_knots"), state.pop("_coeffs")
+            state.update(
+                _pieces=(knots, coeffs),
+                _build=None,
+                _duration=float(knots[-1]),
+                _dof=int(coeffs[0].shape[2]),
+            )
+        self.__dict__.update(state)
+
     def __getstate__(self) -> dict[str, Any]:
         """Everything but the metadata values that cannot be pickled (Ruckig's own object).
 
@@ -322,9 +337,11 @@ class Trajectory:
     def __repr__(self) -> str:
         planner = self.metadata.get("planner", "?")
         phases = ", ".join(p.name for p in self.phases) or "-"
+        # A deferred trajectory is not built just to be shown.
+        segments = "?" if self._pieces is None else str(len(self._pieces[0]) - 1)
         return (
             f"Trajectory(duration={self.duration:.4g} s, dof={self.dof}, "
-            f"segments={len(self._knots) - 1}, planner={planner!r}, phases=[{phases}])"
+            f"segments={segments}, planner={planner!r}, phases=[{phases}])"
         )
 
     def phase(self, name: str) -> Phase:

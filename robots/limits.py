@@ -5,6 +5,7 @@ from __future__ import annotations
 import functools
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from types import MappingProxyType
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -91,6 +92,12 @@ class JointLimits:
                     name=name,
                 )
 
+    def __getstate__(self) -> dict[str, object]:
+        """The fields only, for pickling: cached views (``floats``) are rebuilt on demand."""
+        state = self.__dict__.copy()
+        state.pop("floats", None)
+        return state
+
     @functools.cached_property
     def floats(self) -> Mapping[str, tuple[float, ...]]:
         """Each limit array as a tuple of Python floats, keyed by field name.
@@ -99,7 +106,9 @@ class JointLimits:
         ``effort`` (units as the arrays). For libraries that take lists, and for per-joint
         loops where NumPy scalars cost more than the work; computed once (limits are frozen).
         """
-        return {name: tuple(getattr(self, name).tolist()) for name in _ARRAY_FIELDS}
+        return MappingProxyType(
+            {name: tuple(getattr(self, name).tolist()) for name in _ARRAY_FIELDS}
+        )
 
     @property
     def n(self) -> int:

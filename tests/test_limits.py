@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pickle
+
 import numpy as np
 import pytest
 
@@ -39,6 +41,10 @@ def test_floats_mirror_the_arrays_and_follow_a_replace():
     faster = limits.scaled(0.5, ("velocity",))
     assert faster.floats["velocity"] == (1.0, 0.15)
     assert limits.floats["velocity"] == (2.0, 0.3)
+    with pytest.raises(TypeError):
+        limits.floats["velocity"] = (9.0, 9.0)  # read-only
+    clone = pickle.loads(pickle.dumps(limits))  # the cached view is left out
+    assert clone.floats == limits.floats
 
 
 @pytest.mark.parametrize(

@@ -27,6 +27,7 @@ from planners.ruckig_planner import (
     SYNCHRONIZATIONS,
     OnlineRuckig,
     Ruckig,
+    _calculator,
     _checked_pieces,
     _native_pieces,
     _position_breach,
@@ -197,6 +198,36 @@ def test_polynomials_are_checked_again_when_first_built():
     tighter = dataclasses.replace(limits, velocity=0.9 * limits.velocity)
     with pytest.raises(SolverError, match=r"limits exceeded.*velocity"):
         _checked_pieces(native, tighter)
+
+
+def test_a_plan_whose_polynomials_break_a_limit_raises_on_first_use(monkeypatch):
+    import planners.ruckig_planner as module
+
+    limits = get_robot("sawyer").limits
+    breach = InfeasibleError("a breach", limit="velocity", joint="right_j0")
+    monkeypatch.setattr(module, "_violations", lambda *args: [breach])
+    traj = state_to_state(np.zeros(7), None, None, np.full(7, 0.5), None, None, limits)
+    assert traj.duration > 0.0 and "segments=?" in repr(traj)  # not built yet
+    with pytest.raises(SolverError, match="a breach"):
+        traj.sample(0.0)
+
+
+def test_a_rest_to_rest_move_from_just_outside_a_short_range_raises_when_planned():
+    # Positions are accepted 1e-9 outside a limit; the round-off slack of a 0.1 m range is
+    # 1e-10, so the move is out of its limits and must be refused now, not on first use.
+    base = get_robot("paddle4").limits
+    limits = dataclasses.replace(base, lower=[0.0, *base.lower[1:]], upper=[0.1, *base.upper[1:]])
+    q0 = np.array([-0.9e-9, 0.0, 0.1, 0.0])
+    with pytest.raises(InfeasibleError, match=r"'J1'.*below its lower position limit") as info:
+        state_to_state(q0, None, None, q0 + np.array([0.05, 0.1, 0.1, 0.1]), None, None, limits)
+    assert info.value.limit == "position"
+
+
+def test_each_thread_has_its_own_ruckig_calculator():
+    here = _calculator(7)
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        there = pool.submit(_calculator, 7).result()
+    assert here is _calculator(7) and there is not here
 
 
 def test_plans_from_several_threads_equal_plans_from_one():
@@ -506,6 +537,15 @@ def test_stop_time_matches_the_closed_form():
     assert traj.duration == pytest.approx(own[0], rel=1e-12)
     with pytest.raises(InvalidInputError, match="at rest"):
         stop(np.zeros(7), np.zeros(7), None, limits)
+
+
+def test_stop_that_runs_past_a_position_limit_raises_when_planned():
+    limits = get_robot("sawyer").limits
+    q0, qd0 = np.zeros(7), np.zeros(7)
+    q0[0], qd0[0] = limits.upper[0] - 0.01, 0.9 * limits.velocity[0]
+    with pytest.raises(InfeasibleError, match=r"right_j0.*upper position limit") as info:
+        stop(q0, qd0, None, limits)
+    assert info.value.limit == "position" and info.value.required > limits.upper[0]
 
 
 def test_stop_that_must_exceed_a_limit_raises():

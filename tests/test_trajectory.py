@@ -224,3 +224,19 @@ def test_deferred_build_that_does_not_fit_is_rejected_on_first_use():
     lazy = Trajectory.deferred(2.0, 3, lambda: ([0.0, 1.0], np.zeros((1, 1, 3))))
     with pytest.raises(InvalidInputError, match=r"deferred trajectory of 2\.0 s"):
         lazy.sample(0.5)
+
+
+def test_a_trajectory_pickled_in_the_former_layout_still_loads():
+    t, q, qd, _ = _random_states(6)
+    eager = Trajectory.from_hermite(t, q, qd, joint_names=["a", "b", "c"])
+    former = {
+        "_knots": eager.breakpoints,
+        "_coeffs": list(eager._coeffs),  # the position polynomial and three derivatives
+        "joint_names": eager.joint_names,
+        "phases": (),
+        "metadata": {},
+    }
+    restored = Trajectory.__new__(Trajectory)
+    restored.__setstate__(former)
+    assert (restored.duration, restored.dof) == (eager.duration, 3)
+    np.testing.assert_array_equal(restored.sample(t).qd, eager.sample(t).qd)
