@@ -14,7 +14,7 @@ from planners.base import JointProfile, Planner
 from planners.cartesian import CartesianStraightLine, LinearTrajectory, follow_tool_path
 from planners.checker import Finding, Report, check
 from planners.classic_strike import ClassicStrike
-from planners.contact import ContactChoice, choose_contact, contact_choices
+from planners.contact import ContactChoice, choose_contact, contact_choices, contact_near
 from planners.lower_bound import lower_bound
 from planners.lspb import LSPB
 from planners.optimal_control import OptimalControl, OptimalControlProblem
@@ -54,6 +54,7 @@ __all__ = [
     "check",
     "choose_contact",
     "contact_choices",
+    "contact_near",
     "follow_tool_path",
     "lower_bound",
 ]

@@ -56,7 +56,9 @@ Build and solve apart
 Warm starts
     ``plan(problem, warm_start=traj)``: from a previous solution of the same shape, primal
     and dual values (``traj.metadata["warm_start"]``); from any other trajectory with the
-    same phase names (TOPPRA, Ruckig, classic profiles), its states at the nodes.
+    same phase names (TOPPRA, Ruckig, classic profiles), its states at the nodes. A previous
+    pool solution's contact configuration (``traj.metadata["contact_configuration"]``) is
+    tried first for the new strike, one local IK away, before any contact search.
 
 Example::
 
@@ -87,7 +89,7 @@ from optraj.errors import (
 )
 from optraj.validation import as_count, as_positive
 from planners.base import stamp
-from planners.contact import ContactChoice, choose_contact, contact_choices
+from planners.contact import ContactChoice, choose_contact, contact_choices, contact_near
 from planners.ruckig_planner import state_to_state, stop
 from planners.strike import strike_line
 from planners.time_scaling import quintic_coefficients
@@ -408,7 +410,10 @@ class OptimalControl:
 
         Args:
             problem: A PointToPoint, Waypoints, PoolStrike or PaddleStrike.
-            warm_start: A previous solution or any trajectory with the problem's phases.
+            warm_start: A previous solution or any trajectory with the problem's phases. A
+                previous pool solution also lends its contact branch: when that still has
+                room (:func:`planners.contact.contact_near`) the contact search is skipped
+                (``metadata["contact_from_warm_start"]``).
 
         Returns:
             The trajectory, exactly the solver's piecewise cubic.
@@ -427,6 +432,18 @@ class OptimalControl:
             return stamp(traj, self.name, started)
         tried: list[FloatArray] = []
         failure: SolverError | None = None
+        # Re-planning from a previous pool solution: first its contact branch, if it still
+        # has room (one local IK instead of the search).
+        seeded = _contact_from(problem, warm_start)
+        if seeded is not None:
+            tried.append(seeded.q)
+            try:
+                traj = self._attempt(problem, seeded, warm_start, len(tried), started)
+            except SolverError as error:
+                failure = error
+            else:
+                traj.metadata["contact_from_warm_start"] = True
+                return traj
         # The contact search once as set, then once more over twice as many candidates for
         # branches it missed; a warm start fits the first branch only.
         for candidates in (self.contact_candidates, 2 * self.contact_candidates):
@@ -442,9 +459,12 @@ class OptimalControl:
                 tried.append(choice.q)
                 start = warm_start if len(tried) == 1 else None
                 try:
-                    return self._attempt(problem, choice, start, len(tried), started)
+                    traj = self._attempt(problem, choice, start, len(tried), started)
                 except SolverError as error:
                     failure = error
+                else:
+                    traj.metadata["contact_from_warm_start"] = False
+                    return traj
         if failure is None:  # pragma: no cover - the first search returns at least one branch
             raise SolverError(self.solver, "no contact configuration to solve from")
         raise failure
@@ -863,6 +883,7 @@ class OptimalControl:
         if built.contact is not None:
             traj.metadata["contact_speed_ratio"] = built.contact.ratio
             traj.metadata["contact_max_speed"] = built.contact.max_speed
+            traj.metadata["contact_configuration"] = np.array(built.contact.q, dtype=float)
         return traj
 
     # -- problems ------------------------------------------------------------------------------
@@ -1045,6 +1066,16 @@ def _waypoints(problem: Waypoints) -> _Spec:
         for d in (fixed_durations if fixed_durations is not None else [None] * len(names))
     )
     return _Spec(problem.robot, limits, tuple(names), durations, guess, fixed)
+
+
+def _contact_from(problem: PoolStrike, warm_start: Trajectory | None) -> ContactChoice | None:
+    """The contact branch of a previous pool solution, if it still fits this problem."""
+    if warm_start is None:
+        return None
+    previous = warm_start.metadata.get("contact_configuration")
+    if not isinstance(previous, np.ndarray) or previous.shape != (problem.limits.n,):
+        return None
+    return contact_near(problem, previous)
 
 
 def _pool(problem: PoolStrike, choice: ContactChoice) -> _Spec:

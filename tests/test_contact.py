@@ -29,10 +29,15 @@ from planners.contact import (
     _MinMaxRatio,
     choose_contact,
     contact_choices,
+    contact_near,
     twist_ratio,
 )
 from robots import solve_ik
 from robots.paddle_ik import BALL_OFFSET
+
+#: Largest joint change [rad] between a branch's contact configurations for balls 2 cm apart:
+#: IK branches differ by far more (contact_choices calls branches 0.1 rad apart distinct).
+_SPREAD_OF_A_BRANCH = 0.1
 
 # ------------------------------------------------------------------------ references
 
@@ -454,6 +459,43 @@ def test_with_room_to_spare_the_contact_nearest_the_start_is_chosen():
         assert reach <= naive_reach + 1e-9
         checked += 1
     assert checked >= 3
+
+
+def test_contact_near_follows_a_previous_branch_to_a_moved_ball():
+    followed = 0
+    for problem in _shots(6, speed=0.8):
+        choice = choose_contact(problem)
+        moved = dataclasses.replace(
+            problem, ball=np.asarray(problem.ball) + np.array([0.0, 0.02, 0.0])
+        )
+        near = contact_near(moved, choice.q)
+        if near is None:  # the branch lost its room: the caller searches instead
+            continue
+        followed += 1
+        # On the moved line, with the ratio recomputed independently at its configurations.
+        robot, direction = moved.robot, np.asarray(moved.direction)
+        pose = robot.tool_pose(near.q)
+        np.testing.assert_allclose(pose[:3, 3], moved.contact_point, rtol=0, atol=1e-6)
+        np.testing.assert_allclose(pose[:3, 2], direction, rtol=0, atol=1e-6)
+        ratio = max(
+            twist_ratio(robot, q, direction, moved.speed)[0]
+            for q in (near.q, near.q_entry, near.q_exit)
+        )
+        np.testing.assert_allclose(near.ratio, ratio, rtol=1e-9)
+        assert near.ratio <= 0.9  # room to spare, or it would not be returned
+        assert np.abs(near.q - choice.q).max() < _SPREAD_OF_A_BRANCH  # the same branch
+    assert followed >= 4
+
+
+def test_contact_near_declines_a_strike_without_room_and_bad_input():
+    problem = next(_shots(1, speed=1.0))
+    choice = choose_contact(problem)
+    fast = dataclasses.replace(problem, speed=0.95 / (choice.ratio / problem.speed))
+    assert contact_near(fast, choice.q) is None  # 95 % of a limit: no room to spare
+    with pytest.raises(InvalidInputError, match="q must have shape"):
+        contact_near(problem, choice.q[:3])
+    with pytest.raises(InvalidInputError, match="PoolStrike"):
+        contact_near(problems.seed_paddle_strike(), choice.q)
 
 
 def test_pool_choice_is_reproducible_for_a_seed():

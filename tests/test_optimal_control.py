@@ -252,6 +252,15 @@ def test_warm_start_from_a_previous_solution_and_from_another_planner():
     assert check(warm, second).ok
     assert warm.metadata["warm_started"] is True
     assert warm.metadata["iterations"] <= cold.metadata["iterations"]
+    # The previous contact branch still has room: no contact search this time.
+    assert warm.metadata["contact_from_warm_start"] is True
+    assert cold.metadata["contact_from_warm_start"] is False
+    assert (
+        np.abs(
+            warm.metadata["contact_configuration"] - previous.metadata["contact_configuration"]
+        ).max()
+        < 0.1
+    )
     plain = Trajectory(cold.breakpoints, cold.coefficients, phases=cold.phases)  # no duals
     seeded = planner.plan(second, warm_start=plain)
     assert seeded.metadata["warm_started"] is False and check(seeded, second).ok
