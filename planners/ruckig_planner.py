@@ -396,7 +396,7 @@ def _native_pieces(native: ruckig.Trajectory) -> tuple[FloatArray, FloatArray]:
             name="native",
         )
     tolerance = _MIN_SEGMENT * max(1.0, duration)
-    per_joint: list[tuple[FloatArray, FloatArray]] = []
+    per_joint: list[tuple[list[float], list[list[float]]]] = []
     knots: list[float] = [0.0, duration]
     for dof, profile in enumerate(sections[0]):
         if profile.accel.duration > 0.0:
@@ -407,7 +407,7 @@ def _native_pieces(native: ruckig.Trajectory) -> tuple[FloatArray, FloatArray]:
                 "support",
             )
         starts, states = _pieces(profile)
-        per_joint.append((np.asarray(starts), np.asarray(states)))
+        per_joint.append((starts, states))
         knots.extend(t for t in starts if 0.0 < t < duration)
     # Merge boundaries closer than the tolerance; keep 0 and the duration exactly.
     merged = [0.0]
@@ -421,16 +421,28 @@ def _native_pieces(native: ruckig.Trajectory) -> tuple[FloatArray, FloatArray]:
             merged.append(duration)
     breaks = np.asarray(merged)
     middles = 0.5 * (breaks[:-1] + breaks[1:])
-    coefficients = np.empty((len(middles), 4, len(per_joint)))
+    # Every joint's pieces in one padded array (starts past the end: inf), so each segment
+    # finds its piece in all joints at once: the last piece starting at or before its middle.
+    n, width = len(per_joint), max(len(starts) for starts, _ in per_joint)
+    piece_starts = np.full((n, width), np.inf)
+    piece_states = np.zeros((n, width, 4))
     for dof, (starts, states) in enumerate(per_joint):
-        piece = np.clip(np.searchsorted(starts, middles, side="right") - 1, 0, None)
-        tau = breaks[:-1] - starts[piece]
-        p, v, a, jerk = states[piece].T
-        coefficients[:, 0, dof] = p + tau * (v + tau * (a / 2.0 + tau * jerk / 6.0))
-        coefficients[:, 1, dof] = v + tau * (a + tau * jerk / 2.0)
-        coefficients[:, 2, dof] = (a + tau * jerk) / 2.0
-        coefficients[:, 3, dof] = jerk / 6.0
-    return breaks, coefficients
+        piece_starts[dof, : len(starts)] = starts
+        piece_states[dof, : len(states)] = states
+    piece = np.maximum((middles[None, :, None] >= piece_starts[:, None, :]).sum(axis=2) - 1, 0)
+    rows = np.arange(n)[:, None]
+    p, v, a, jerk = np.moveaxis(piece_states[rows, piece], -1, 0)  # each (n, K)
+    tau = breaks[None, :-1] - piece_starts[rows, piece]
+    coefficients = np.stack(
+        [
+            p + tau * (v + tau * (a / 2.0 + tau * jerk / 6.0)),
+            v + tau * (a + tau * jerk / 2.0),
+            (a + tau * jerk) / 2.0,
+            jerk / 6.0,
+        ],
+        axis=1,
+    )  # (n, 4, K)
+    return breaks, np.ascontiguousarray(coefficients.transpose(2, 1, 0))
 
 
 # ------------------------------------------------------------------------- limit checks
@@ -570,31 +582,29 @@ def _violations(knots: FloatArray, c: FloatArray, limits: JointLimits) -> list[I
         first = inside(np.where(cubic, (-c2 + root) / (3.0 * c3), linear))
         second = inside(np.where(cubic, (-c2 - root) / (3.0 * c3), 0.0))
     errors: list[InfeasibleError] = []
-    # Position: both bounds.
+    # Position: both bounds. Times of the extremes are looked up only for a breach.
     taus = np.stack([zero, h, first, second])  # (m, K, n)
-    values = (c0 + taus * (c1 + taus * (c2 + taus * c3))).reshape(-1, c0.shape[1])
-    times = (knots[:-1, None] + taus).reshape(values.shape)
+    values = c0 + taus * (c1 + taus * (c2 + taus * c3))
     slack = _position_slack(limits.lower, limits.upper)
-    for sign, bound in ((-1.0, limits.lower), (1.0, limits.upper)):
-        worst = np.argmax(sign * values, axis=0)
-        extreme = values[worst, np.arange(limits.n)]
-        for j in np.flatnonzero(sign * (extreme - bound) > slack).tolist():
-            when = float(times[worst[j], j])
-            errors.append(_position_error(limits, j, float(extreme[j]), when, upper=sign > 0))
+    low, high = values.min(axis=(0, 1)), values.max(axis=(0, 1))
+    for j in np.flatnonzero(low < limits.lower - slack).tolist():
+        when = _time_of(values, taus, knots, j, lowest=True)
+        errors.append(_position_error(limits, j, float(low[j]), when, upper=False))
+    for j in np.flatnonzero(high > limits.upper + slack).tolist():
+        when = _time_of(values, taus, knots, j, lowest=False)
+        errors.append(_position_error(limits, j, float(high[j]), when, upper=True))
     # Velocity, acceleration, jerk: magnitudes.
     for quantity, taus_q, evaluate in (
         ("velocity", np.stack([zero, h, vertex]), lambda t: c1 + t * (2 * c2 + 3 * t * c3)),
         ("acceleration", np.stack([zero, h]), lambda t: 2 * c2 + 6 * t * c3),
         ("jerk", zero[None], lambda t: 6 * c3 + 0 * t),
     ):
-        magnitude = np.abs(evaluate(taus_q)).reshape(-1, c0.shape[1])
-        times = (knots[:-1, None] + taus_q).reshape(magnitude.shape)
-        worst = np.argmax(magnitude, axis=0)
-        peak = magnitude[worst, np.arange(limits.n)]
+        magnitude = np.abs(evaluate(taus_q))  # (m, K, n)
+        peak = magnitude.max(axis=(0, 1))
         allowed = getattr(limits, quantity)
         for j in np.flatnonzero(peak > _bound(allowed)).tolist():
             name = limits.names[j]
-            when = float(times[worst[j], j])
+            when = _time_of(magnitude, taus_q, knots, j, lowest=False)
             errors.append(
                 InfeasibleError(
                     f"joint {name!r} reaches a {quantity} of {peak[j]:.6g} "
@@ -607,6 +617,25 @@ def _violations(knots: FloatArray, c: FloatArray, limits: JointLimits) -> list[I
                 )
             )
     return errors
+
+
+def _time_of(
+    values: FloatArray, taus: FloatArray, knots: FloatArray, j: int, *, lowest: bool
+) -> float:
+    """When joint j takes its lowest or highest candidate value [s].
+
+    Args:
+        values: Candidate values, shape (m, K, n): m candidate times on each of K segments.
+        taus: The candidate times within their segments [s], shape (m, K, n).
+        knots: Breakpoints [s], shape (K + 1,).
+        j: The joint.
+        lowest: The lowest value's time, else the highest's.
+    """
+    column = values[..., j]
+    candidate, segment = np.unravel_index(
+        int(column.argmin() if lowest else column.argmax()), column.shape
+    )
+    return float(knots[segment] + taus[candidate, segment, j])
 
 
 def _checked_pieces(
