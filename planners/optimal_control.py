@@ -437,13 +437,10 @@ class OptimalControl:
         seeded = _contact_from(problem, warm_start)
         if seeded is not None:
             tried.append(seeded.q)
-            try:
-                traj = self._attempt(problem, seeded, warm_start, len(tried), started)
-            except SolverError as error:
-                failure = error
-            else:
-                traj.metadata["contact_from_warm_start"] = True
-                return traj
+            outcome = self._attempt(problem, seeded, warm_start, len(tried), started, True)
+            if isinstance(outcome, Trajectory):
+                return outcome
+            failure = outcome
         # The contact search once as set, then once more over twice as many candidates for
         # branches it missed; a warm start fits the first branch only.
         for candidates in (self.contact_candidates, 2 * self.contact_candidates):
@@ -458,13 +455,10 @@ class OptimalControl:
             for choice in choices:
                 tried.append(choice.q)
                 start = warm_start if len(tried) == 1 else None
-                try:
-                    traj = self._attempt(problem, choice, start, len(tried), started)
-                except SolverError as error:
-                    failure = error
-                else:
-                    traj.metadata["contact_from_warm_start"] = False
-                    return traj
+                outcome = self._attempt(problem, choice, start, len(tried), started, False)
+                if isinstance(outcome, Trajectory):
+                    return outcome
+                failure = outcome
         if failure is None:  # pragma: no cover - the first search returns at least one branch
             raise SolverError(self.solver, "no contact configuration to solve from")
         raise failure
@@ -476,10 +470,19 @@ class OptimalControl:
         warm_start: Trajectory | None,
         attempt: int,
         started: float,
-    ) -> Trajectory:
-        """Plan a pool strike from the ``attempt``-th contact choice (counted from 1)."""
-        traj = self._plan(problem, _pool(problem, choice), warm_start)
+        from_warm_start: bool,
+    ) -> Trajectory | SolverError:
+        """Plan a pool strike from the ``attempt``-th contact choice (counted from 1).
+
+        Returns:
+            The trajectory, or the solver's error for the caller to try another choice.
+        """
+        try:
+            traj = self._plan(problem, _pool(problem, choice), warm_start)
+        except SolverError as error:
+            return error
         traj.metadata["contact_attempts"] = attempt
+        traj.metadata["contact_from_warm_start"] = from_warm_start
         return stamp(traj, self.name, started)
 
     def _plan(self, problem: Any, spec: _Spec, warm_start: Trajectory | None) -> Trajectory:
