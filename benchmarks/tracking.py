@@ -268,8 +268,9 @@ def timing_table(robot: Robot, planned: dict[str, Trajectory], repeats: int) -> 
     lines += [
         "",
         "A QP step first solves exactly on the last step's active set (one small linear",
-        "solve, kept only when it meets the optimality conditions); OSQP solves the steps",
-        "where the active set changes.",
+        "solve, kept only when it meets the optimality conditions), then changes that set",
+        "(at most `active_set_changes` times, one linear solve each); OSQP solves the steps",
+        "where that does not settle.",
     ]
     if pink_step is None:
         lines += ["", "pin-pink is not installed: `pip install pin-pink` adds its row."]

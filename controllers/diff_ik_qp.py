@@ -22,9 +22,11 @@ solves the QP exactly on the last step's active set, the bounds that bound then 
 equalities and the other joints free: one small linear solve, accepted only when it meets
 every optimality condition (free joints within their bounds, the multipliers of the held ones
 pushing outwards). This is the QP's exact solution, not an approximation. When the guess fails
-the conditions (the active set changed), OSQP solves the step and its multipliers give the new
-active set. :attr:`DiffIKQP.diagnostics` says which path a step took. With extra constraint
-rows every step goes to OSQP.
+the conditions (the active set changed), the set is changed (free joints that left their
+bounds are held, held joints pushing inwards are freed) and solved again, a primal-dual
+active-set method; only when that does not settle within a few changes does OSQP solve the
+step, and its multipliers give the new active set. :attr:`DiffIKQP.diagnostics` says which
+path a step took. With extra constraint rows every step goes to OSQP.
 
 When OSQP does not return a solution within the bounds, the controller sends a safe command
 instead: the last command brought towards rest at the acceleration limit. It keeps the
@@ -69,6 +71,9 @@ FloatArray = NDArray[np.float64]
 #: A solution may leave its bounds by this much (relative to the bound's scale) before it is
 #: rejected; within it, the solution is projected onto the bounds.
 BOUND_TOLERANCE = 1e-6
+#: Default changes of the active set tried per step before OSQP decides: from one control
+#: period to the next the bounds that hold rarely change by more than one or two.
+ACTIVE_SET_CHANGES = 6
 #: OSQP's infinity.
 OSQP_INFINITY = 1e30
 #: OSQP outcomes whose ``x`` is used: solved, solved inaccurately, or stopped at the iteration
@@ -105,6 +110,10 @@ class DiffIKQP(Controller):
             cap along a direction), added to every step's QP.
         tolerance: OSQP's absolute and relative tolerance.
         max_iterations: OSQP's iteration cap per step.
+        active_set_changes: Without extra constraint rows the QP has bounds only: each step
+            first solves it exactly on the last step's active set, then changes that set up
+            to this many times (a primal-dual active-set method, each change one linear
+            solve), and calls OSQP only when that does not settle. 0: only the last set.
 
     Raises:
         InvalidInputError: A bad gain, weight, scale or tolerance, or limits for another
@@ -130,6 +139,7 @@ class DiffIKQP(Controller):
         constraints: Sequence[Constraint] = (),
         tolerance: float = 1e-7,
         max_iterations: int = 1000,
+        active_set_changes: int = ACTIVE_SET_CHANGES,
     ) -> None:
         self.robot = robot
         self.pid = CartesianPID(kp, ki, kd, integral_limit, task)
@@ -163,6 +173,7 @@ class DiffIKQP(Controller):
         self.constraints = tuple(_checked_rows(c, robot.dof) for c in constraints)
         self.tolerance = as_positive(tolerance, "tolerance")
         self.max_iterations = as_count(max_iterations, "max_iterations", minimum=1)
+        self.active_set_changes = as_count(active_set_changes, "active_set_changes")
         # Pieces that do not change from step to step, built once.
         self._damping = damping_objective(robot.dof, self.damping)
         self._velocity = velocity_bounds(self.limits.velocity, self.velocity_scale)
@@ -233,7 +244,7 @@ class DiffIKQP(Controller):
         return command
 
     def solve(self, qp: QP, dt: float) -> Command:
-        """Solve an assembled QP: exactly on the last active set, else with OSQP.
+        """Solve an assembled QP: exactly on an active set reached from the last one, else OSQP.
 
         OSQP is set up on first use, then updated in place and warm started.
 
@@ -244,8 +255,9 @@ class DiffIKQP(Controller):
         n = qp.c.size
         bounds_only = qp.A.shape[0] == n
         if bounds_only:
-            x = self._active.solve(qp)
-            if x is not None:
+            found = self._active.search(qp, self.active_set_changes + 1)
+            if found is not None:
+                self._active, x = found
                 self.diagnostics = {"solver": "active set", "relaxed": qp.relaxed}
                 return Command(x)
         if self._solver is None or self._solver.rows != qp.A.shape[0]:
@@ -386,7 +398,38 @@ class _ActiveSet:
         arm's self-motion, held only by the damping and posture terms) its ``x`` may be off
         by tolerance / weight, which this removes.
         """
-        lower, upper = qp.lower, qp.upper
+        x = self._on_bounds(qp)
+        if x is None or self._next(qp, x) is not self:
+            return None
+        return np.minimum(np.maximum(x, qp.lower), qp.upper)  # round-off within the slack
+
+    def search(self, qp: QP, tries: int) -> tuple[_ActiveSet, FloatArray] | None:
+        """The active set and exact solution reached from this one, or None.
+
+        A primal-dual active-set method for a bounds-only QP: solve with the held joints at
+        their bounds; then hold every free joint that left its bounds and release every held
+        joint whose multiplier has the wrong sign; repeat until nothing changes, which is
+        exactly when the optimality conditions hold. It usually takes one or two changes
+        when the active set moved since the last step. None after ``tries`` changes, on a
+        cycle or a singular system: let OSQP decide.
+        """
+        active, seen = self, set()
+        for _ in range(tries):
+            x = active._on_bounds(qp)
+            if x is None:
+                return None
+            following = active._next(qp, x)
+            if following is active:
+                return active, np.minimum(np.maximum(x, qp.lower), qp.upper)
+            key = following.upper.tobytes() + following.lower.tobytes()
+            if key in seen:
+                return None
+            seen.add(key)
+            active = following
+        return None
+
+    def _on_bounds(self, qp: QP) -> FloatArray | None:
+        """The QP's minimiser with the held joints fixed at their bounds; None if singular."""
         if self.empty:
             _, x, info = lapack.dposv(qp.H, qp.c)
             x = -x
@@ -394,20 +437,31 @@ class _ActiveSet:
             K = qp.H.copy()  # the held joints' rows become "x_j = bound"
             K[self.fixed] = 0.0
             K[self.fixed, self.fixed] = 1.0
-            rhs = np.where(self.upper, upper, np.where(self.lower, lower, -qp.c))
+            rhs = np.where(self.upper, qp.upper, np.where(self.lower, qp.lower, -qp.c))
             _, _, x, info = lapack.dgesv(K, rhs)
-        if info != 0:  # singular: let OSQP decide
-            return None
+        return None if info != 0 else x
+
+    def _next(self, qp: QP, x: FloatArray) -> _ActiveSet:
+        """This set if x (its solution) is optimal, else the set to try next.
+
+        Optimal: free joints within their bounds; held joints' cost gradient pointing out of
+        the box (at an upper bound no larger than 0, at a lower one no smaller), each up to
+        :data:`SLACK` relative to ``max(1, |c|)``. Next: hold the free joints that left, at
+        the bound they passed; release the held joints whose gradient points inwards.
+        """
         slack = self.SLACK * max(1.0, float(np.abs(qp.c).max()))
-        if np.maximum(lower - x, x - upper).max() > slack:
-            return None
-        if not self.empty:
-            gradient = qp.H @ x + qp.c
-            if np.where(self.upper, gradient, 0.0).max() > slack:
-                return None
-            if np.where(self.lower, gradient, 0.0).min() < -slack:
-                return None
-        return np.minimum(np.maximum(x, lower), upper)  # round-off within the slack
+        above = x > qp.upper + slack
+        below = x < qp.lower - slack
+        if self.empty:
+            if not (above.any() or below.any()):
+                return self
+            return _ActiveSet(above, below)
+        gradient = qp.H @ x + qp.c
+        upper = above | (self.upper & (gradient <= slack))
+        lower = below | (self.lower & (gradient >= -slack))
+        if np.array_equal(upper, self.upper) and np.array_equal(lower, self.lower):
+            return self
+        return _ActiveSet(upper, lower)
 
 
 def _checked_rows(constraint: object, n: int) -> Constraint:

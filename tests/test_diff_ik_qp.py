@@ -95,14 +95,16 @@ def test_constrained_solution_equals_bounded_least_squares():
     assert active_cases >= 10  # the test exercises bounds that bind
 
 
-def test_active_set_path_gives_the_exact_solution_as_the_active_set_changes():
+@pytest.mark.parametrize("changes", [0, diff_ik_qp.ACTIVE_SET_CHANGES])
+def test_active_set_path_gives_the_exact_solution_as_the_active_set_changes(changes):
     # A closed loop whose references jump now and then: most steps keep the last active set
-    # (solved by one linear solve), the jumps change it (OSQP). Every command must equal the
-    # bounded least-squares solution of its step's QP, whichever path produced it.
+    # (solved by one linear solve), the jumps change it (a few active-set changes, or OSQP
+    # when none are allowed). Every command must equal the bounded least-squares solution of
+    # its step's QP, whichever path produced it.
     robot = get_robot("sawyer")
     limits = robot.limits
     rng = np.random.default_rng(22)
-    controller = DiffIKQP(robot, ki=0.0, kp=300.0)
+    controller = DiffIKQP(robot, ki=0.0, kp=300.0, active_set_changes=changes)
     q, reference = _random_case(robot, rng)
     last = np.zeros(robot.dof)
     controller.reset(State(0.0, q, last))
@@ -125,7 +127,10 @@ def test_active_set_path_gives_the_exact_solution_as_the_active_set_changes():
         held += bool(np.any(np.isclose(command.qd, qp.upper) | np.isclose(command.qd, qp.lower)))
         q = q + command.qd * DT
         last = command.qd
-    assert paths["active set"] >= 100 and paths["osqp"] >= 10, paths
+    if changes == 0:
+        assert paths["active set"] >= 100 and paths["osqp"] >= 10, paths
+    else:  # the changes the jumps need are found without OSQP
+        assert paths["osqp"] <= 2, paths
     assert held >= 50  # bounds bind on many steps, not only the unconstrained case
 
 
@@ -139,7 +144,7 @@ def test_a_wrong_active_set_guess_is_refused_and_osqp_decides():
     # A velocity limit just below the fastest joint's need: some bounds bind, some joints not.
     scale = 0.95 * float(np.max(np.abs(unconstrained) / robot.limits.velocity))
     limit = scale * robot.limits.velocity
-    controller = DiffIKQP(robot, ki=0.0, velocity_scale=scale)
+    controller = DiffIKQP(robot, ki=0.0, velocity_scale=scale, active_set_changes=0)
     state = State(0.0, q, np.clip(unconstrained, -limit, limit))
     controller.reset(state)
     qp = controller.build(state, reference, DT)
@@ -160,6 +165,16 @@ def test_a_wrong_active_set_guess_is_refused_and_osqp_decides():
     command = controller.step(state, reference, DT)  # after reset: the empty guess
     assert controller.diagnostics["solver"] == "osqp"
     np.testing.assert_allclose(command.qd, expected, atol=1e-6, rtol=0)
+    # Allowed to change the set, the controller finds the solution from every wrong guess.
+    for guess in (diff_ik_qp._ActiveSet.none(n), diff_ik_qp._ActiveSet(too_many, at_lower)):
+        found = guess.search(qp, diff_ik_qp.ACTIVE_SET_CHANGES + 1)
+        assert found is not None
+        np.testing.assert_array_equal(found[0].upper, at_upper)
+        np.testing.assert_allclose(found[1], expected, atol=1e-9, rtol=0)
+    searching = DiffIKQP(robot, ki=0.0, velocity_scale=scale)
+    searching.reset(state)
+    np.testing.assert_allclose(searching.step(state, reference, DT).qd, expected, atol=1e-9)
+    assert searching.diagnostics["solver"] == "active set"
 
 
 def test_commands_never_leave_the_limits_in_a_random_stress():
@@ -207,7 +222,7 @@ def test_failure_falls_back_to_braking_within_limits(monkeypatch):
     limits = robot.limits
     q = robot.home
     last = 0.9 * limits.velocity
-    controller = DiffIKQP(robot)
+    controller = DiffIKQP(robot, active_set_changes=0)  # the step goes to OSQP
     state = State(0.0, q, last)
     controller.reset(state)
 
@@ -225,7 +240,7 @@ def test_failure_falls_back_to_braking_within_limits(monkeypatch):
 def test_public_wrapper_path_gives_the_same_commands():
     robot = get_robot("sawyer")
     rng = np.random.default_rng(15)
-    fast, slow = DiffIKQP(robot), DiffIKQP(robot)
+    fast, slow = (DiffIKQP(robot, active_set_changes=0) for _ in range(2))  # OSQP steps
     q, reference = _random_case(robot, rng)
     state = State(0.0, q, np.zeros(robot.dof))
     fast.reset(state)
@@ -267,6 +282,8 @@ def test_bad_settings_are_refused():
         DiffIKQP(robot, damping=0.0)
     with pytest.raises(InvalidInputError, match="max_iterations"):
         DiffIKQP(robot, max_iterations=0)
+    with pytest.raises(InvalidInputError, match="active_set_changes"):
+        DiffIKQP(robot, active_set_changes=-1)
     with pytest.raises(InvalidInputError, match="limits cover 4 joints"):
         DiffIKQP(robot, limits=get_robot("paddle4").limits)
     with pytest.raises(InvalidInputError, match="Constraint rows"):
@@ -280,7 +297,7 @@ def test_a_step_cut_short_by_the_iteration_cap_is_still_used_when_it_checks_out(
     for seed in (17, 18, 19):
         q, reference = _random_case(robot, np.random.default_rng(seed))
         exact = DiffIKQP(robot)
-        capped = DiffIKQP(robot, max_iterations=6)
+        capped = DiffIKQP(robot, max_iterations=6, active_set_changes=0)
         state = State(0.0, q, np.zeros(robot.dof))
         exact.reset(state)
         capped.reset(state)
