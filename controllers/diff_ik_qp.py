@@ -410,10 +410,10 @@ class _ActiveSet:
         their bounds; then hold every free joint that left its bounds and release every held
         joint whose multiplier has the wrong sign; repeat until nothing changes, which is
         exactly when the optimality conditions hold. It usually takes one or two changes
-        when the active set moved since the last step. None after ``tries`` changes, on a
-        cycle or a singular system: let OSQP decide.
+        when the active set moved since the last step. None after ``tries`` solves (this set
+        and ``tries - 1`` changes), on a cycle or a singular system: let OSQP decide.
         """
-        active, seen = self, set()
+        active, seen = self, {self.upper.tobytes() + self.lower.tobytes()}
         for _ in range(tries):
             x = active._on_bounds(qp)
             if x is None:
@@ -457,9 +457,14 @@ class _ActiveSet:
                 return self
             return _ActiveSet(above, below)
         gradient = qp.H @ x + qp.c
-        upper = above | (self.upper & (gradient <= slack))
-        lower = below | (self.lower & (gradient >= -slack))
-        if np.array_equal(upper, self.upper) and np.array_equal(lower, self.lower):
+        # A joint whose bounds meet stays held whatever its multiplier's sign (kept as an
+        # upper bound), rather than being freed only to be held again at the other one.
+        pinned = self.fixed & (qp.lower >= qp.upper)
+        upper = above | (self.upper & (gradient <= slack)) | pinned
+        lower = (below | (self.lower & (gradient >= -slack))) & ~pinned
+        if np.array_equal(upper, self.upper | pinned) and np.array_equal(
+            lower, self.lower & ~pinned
+        ):
             return self
         return _ActiveSet(upper, lower)
 

@@ -28,7 +28,8 @@ the strike speed). A paddle4 contact is fixed by its closed-form IK. When even t
 exceeds 1 (or 1 - margin) the strike is rejected at once, with an
 :class:`optraj.errors.InfeasibleError` naming the binding joint and the fastest strike found: a
 pre-check that answers in well under a second instead of letting a planner spend its iteration
-budget on a strike no configuration can make.
+budget on a strike no configuration can make. :func:`contact_near` re-plans without the search:
+it follows a previous contact configuration's IK branch to a strike that changed a little.
 """
 
 from __future__ import annotations

@@ -170,11 +170,47 @@ def test_a_wrong_active_set_guess_is_refused_and_osqp_decides():
         found = guess.search(qp, diff_ik_qp.ACTIVE_SET_CHANGES + 1)
         assert found is not None
         np.testing.assert_array_equal(found[0].upper, at_upper)
+        np.testing.assert_array_equal(found[0].lower, at_lower)
         np.testing.assert_allclose(found[1], expected, atol=1e-9, rtol=0)
     searching = DiffIKQP(robot, ki=0.0, velocity_scale=scale)
     searching.reset(state)
     np.testing.assert_allclose(searching.step(state, reference, DT).qd, expected, atol=1e-9)
     assert searching.diagnostics["solver"] == "active set"
+
+
+def test_active_set_search_on_random_boxes_some_of_them_points():
+    # Box QPs of the controller's form (H = A'A + damping): every result the search returns
+    # is bounded least squares; joints whose bounds meet are held from either side.
+    rng = np.random.default_rng(24)
+    settled = 0
+    for _ in range(300):
+        n = 7
+        A = rng.normal(size=(6, n))
+        b = rng.normal(size=6)
+        H = A.T @ A + 1e-6 * np.eye(n)
+        lower = -rng.uniform(0.05, 1.0, n)
+        upper = rng.uniform(0.05, 1.0, n)
+        points = rng.random(n) < 0.3
+        lower[points] = upper[points] = rng.uniform(-0.5, 0.5, int(points.sum()))
+        qp = diff_ik_qp.QP(H, -A.T @ b, np.eye(n), lower, upper, ())
+        guess = diff_ik_qp._ActiveSet(rng.random(n) < 0.3, np.zeros(n, dtype=bool))
+        guess = diff_ik_qp._ActiveSet(guess.upper, (rng.random(n) < 0.3) & ~guess.upper)
+        found = guess.search(qp, diff_ik_qp.ACTIVE_SET_CHANGES + 1)
+        if found is None:
+            continue  # OSQP would decide
+        settled += 1
+        # Reference: the points' joints fixed, bounded least squares (scipy's bvls) over the
+        # others, with the damping as least-squares rows.
+        stacked = np.vstack([A, 1e-3 * np.eye(n)])
+        target = np.concatenate([b, np.zeros(n)]) - stacked[:, points] @ lower[points]
+        free = ~points
+        expected = lower.copy()
+        expected[free] = lsq_linear(
+            stacked[:, free], target, bounds=(lower[free], upper[free]), method="bvls", tol=1e-14
+        ).x
+        np.testing.assert_allclose(found[1], expected, atol=1e-7, rtol=0)
+        assert np.all(found[1] >= lower) and np.all(found[1] <= upper)
+    assert settled >= 270  # random guesses, up to 7 bounds off: most settle without OSQP
 
 
 def test_commands_never_leave_the_limits_in_a_random_stress():

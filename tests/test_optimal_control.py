@@ -266,6 +266,35 @@ def test_warm_start_from_a_previous_solution_and_from_another_planner():
     assert seeded.metadata["warm_started"] is False and check(seeded, second).ok
 
 
+def test_a_warm_re_plan_whose_kept_contact_fails_runs_the_search(monkeypatch):
+    first, second = (
+        problems.sawyer_pool_shot(1.0, ball=ball)
+        for ball in ((0.75, 0.15, -0.05), (0.75, 0.17, -0.05))
+    )
+    planner = OptimalControl("time")
+    previous = planner.plan(first)
+    # A warm start read back from JSON keeps the contact configuration (as a list).
+    restored = Trajectory.from_json(previous.to_json())
+    assert planner.plan(second, warm_start=restored).metadata["contact_from_warm_start"]
+    calls = []
+    original = OptimalControl._plan
+
+    def fail_first(self, problem, spec, warm_start):
+        calls.append(warm_start)
+        if len(calls) == 1:
+            raise SolverError("ipopt", "Maximum_Iterations_Exceeded")
+        return original(self, problem, spec, warm_start)
+
+    monkeypatch.setattr(OptimalControl, "_plan", fail_first)
+    traj = planner.plan(second, warm_start=previous)
+    assert calls[0] is previous and calls[1] is None  # the search's choice solved cold
+    assert traj.metadata["contact_from_warm_start"] is False
+    assert traj.metadata["contact_attempts"] == 2 and check(traj, second).ok
+    monkeypatch.setattr(OptimalControl, "_plan", original)
+    kept = OptimalControl("time", reuse_contact=False).plan(second, warm_start=previous)
+    assert kept.metadata["contact_from_warm_start"] is False
+
+
 def test_planner_pickles_without_its_compiled_solvers():
     planner = OptimalControl("time")
     problem = problems.PointToPoint(

@@ -178,8 +178,9 @@ def test_rest_to_rest_moves_stay_between_start_and_target(name):
 
 
 def test_exact_peaks_of_a_known_cubic_name_their_value_and_time():
-    # q(t) = t - t^3 on [0, 1]: highest at t = 1/sqrt(3), q = 2 / (3 sqrt(3)); velocity
-    # 1 - 3 t^2 is largest in magnitude at t = 1 (-2); acceleration -6 t also (-6).
+    # At rest for 0.5 s, then q = tau - tau^3 for tau = t - 0.5 in [0, 1]: highest at
+    # tau = 1/sqrt(3), q = 2 / (3 sqrt(3)); velocity 1 - 3 tau^2 is largest in magnitude at
+    # tau = 1 (-2); acceleration -6 tau also (-6).
     base = get_robot("paddle4").limits
     limits = dataclasses.replace(
         base,
@@ -189,18 +190,18 @@ def test_exact_peaks_of_a_known_cubic_name_their_value_and_time():
         acceleration=[5.0, *base.acceleration[1:]],
         jerk=[7.0, *base.jerk[1:]],
     )
-    coefficients = np.zeros((1, 4, 4))
-    coefficients[0, :, 0] = [0.0, 1.0, 0.0, -1.0]
-    coefficients[0, 0, 1:] = 0.5 * (limits.lower[1:] + limits.upper[1:])
-    errors = {e.limit: e for e in _violations(np.array([0.0, 1.0]), coefficients, limits)}
+    coefficients = np.zeros((2, 4, 4))
+    coefficients[1, :, 0] = [0.0, 1.0, 0.0, -1.0]
+    coefficients[:, 0, 1:] = 0.5 * (limits.lower[1:] + limits.upper[1:])
+    knots = np.array([0.0, 0.5, 1.5])
+    errors = {e.limit: e for e in _violations(knots, coefficients, limits)}
     assert set(errors) == {"position", "velocity", "acceleration"}  # jerk 6 <= 7
     peak = 2.0 / (3.0 * math.sqrt(3.0))
     assert errors["position"].required == pytest.approx(peak, rel=1e-12)
-    assert f"t = {1.0 / math.sqrt(3.0):.4g} s" in str(errors["position"])
-    assert errors["velocity"].required == pytest.approx(2.0) and "t = 1 s" in str(
-        errors["velocity"]
-    )
-    assert errors["acceleration"].required == pytest.approx(6.0)
+    assert f"t = {0.5 + 1.0 / math.sqrt(3.0):.4g} s" in str(errors["position"])
+    for quantity, value in (("velocity", 2.0), ("acceleration", 6.0)):
+        assert errors[quantity].required == pytest.approx(value)
+        assert "t = 1.5 s" in str(errors[quantity])
 
 
 def test_a_joint_starting_at_rest_on_its_limit_is_not_a_breach():
