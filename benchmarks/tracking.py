@@ -42,7 +42,7 @@ import controllers
 import problems
 from benchmarking import SEED, SPEED, pool_shots, progress, shot_arguments, write_report
 from controllers.simulation import Impulse, Noise, Result, simulate
-from optraj.errors import OptrajError
+from optraj.errors import CompilerError, OptrajError
 from planners.optimal_control import OptimalControl
 from planners.trajectory import Trajectory
 from robots import Robot
@@ -214,6 +214,14 @@ def timing_table(robot: Robot, planned: dict[str, Trajectory], repeats: int) -> 
         (label, controller, nominal) for label, controller in compared
     ]
     cases.append((f"{qp_label}, run on the full limits", qp_controller, full))
+    try:
+        compiled: controllers.DiffIKQP | None = controllers.DiffIKQP(robot, evaluation="compiled")
+    except CompilerError:
+        compiled = None
+    if compiled is not None:
+        cases.append((f"{qp_label}, compiled to C", compiled, nominal))
+    pieces = controllers.DiffIKQP(robot, evaluation="pieces")
+    cases.append((f"{qp_label}, from the pieces", pieces, nominal))
     pink_step = pink_stepper(robot)
     if pink_step is not None:
         cases.append(("pink solve_ik (OSQP)", None, nominal))
@@ -236,8 +244,8 @@ def timing_table(robot: Robot, planned: dict[str, Trajectory], repeats: int) -> 
                     else:
                         controller.step(state, reference, DT)
                     times.append(time.perf_counter() - started)
-                    if controller is qp_controller:
-                        solver = qp_controller.diagnostics.get("solver", "fallback")
+                    if isinstance(controller, controllers.DiffIKQP):
+                        solver = controller.diagnostics.get("solver", "fallback")
                         paths.setdefault(label, []).append(solver)
     qp = statistics.median(timed[qp_label])
     lines = [
@@ -270,8 +278,14 @@ def timing_table(robot: Robot, planned: dict[str, Trajectory], repeats: int) -> 
         "A QP step first solves exactly on the last step's active set (one small linear",
         "solve, kept only when it meets the optimality conditions), then changes that set",
         "(at most `active_set_changes` times, one linear solve each); OSQP solves the steps",
-        "where that does not settle.",
+        'where that does not settle. By default (`evaluation="fused"`) one CasADi function',
+        "computes the tool pose, Jacobian, PID law, the QP's numbers and the solve on the last",
+        'active set, evaluated by CasADi\'s virtual machine; `"compiled"` compiles that',
+        'function to C with gcc; `"pieces"` assembles the QP from `controllers.qp_terms`',
+        "with NumPy at every step. All three give the same commands to round-off.",
     ]
+    if compiled is None:
+        lines += ["", "No C compiler (gcc) was found: the compiled row is missing."]
     if pink_step is None:
         lines += ["", "pin-pink is not installed: `pip install pin-pink` adds its row."]
     return lines

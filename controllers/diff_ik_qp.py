@@ -28,6 +28,12 @@ active-set method; only when that does not settle within a few changes does OSQP
 step, and its multipliers give the new active set. :attr:`DiffIKQP.diagnostics` says which
 path a step took. With extra constraint rows every step goes to OSQP.
 
+Without extra constraint rows, a step by default does not assemble the pieces at all: one
+CasADi function (:class:`~controllers.fused_step.FusedStep`) computes the tool pose and
+Jacobian, the PID law, the QP's numbers and the exact solution on the last active set in one
+call, optionally compiled to C (``evaluation="compiled"``). The pieces remain the reference
+(and :meth:`DiffIKQP.build` returns them); the two agree to round-off.
+
 When OSQP does not return a solution within the bounds, the controller sends a safe command
 instead: the last command brought towards rest at the acceleration limit. It keeps the
 velocity and acceleration limits, and the braking room of the position bounds that held on the
@@ -48,19 +54,21 @@ from scipy.linalg import lapack
 
 from controllers.cartesian_pid import CartesianPID, tool_kinematics
 from controllers.controller import Command, Controller, Reference, State
+from controllers.fused_step import FusedStep, StepSettings
 from controllers.qp_terms import (
     QP,
     Constraint,
     acceleration_bounds,
     combine,
     damping_objective,
+    identity,
     position_bounds,
     posture_objective,
     task_objective,
     task_weights,
     velocity_bounds,
 )
-from optraj.errors import InvalidInputError
+from optraj.errors import InvalidInputError, UnknownNameError
 from optraj.validation import as_array, as_count, as_fraction, as_positive
 from robots import JointLimits, Robot
 
@@ -74,6 +82,8 @@ BOUND_TOLERANCE = 1e-6
 #: Default changes of the active set tried per step before OSQP decides: from one control
 #: period to the next the bounds that hold rarely change by more than one or two.
 ACTIVE_SET_CHANGES = 6
+#: How a step computes its QP (see DiffIKQP).
+EVALUATIONS: tuple[str, ...] = ("fused", "compiled", "pieces")
 #: OSQP's infinity.
 OSQP_INFINITY = 1e30
 #: OSQP outcomes whose ``x`` is used: solved, solved inaccurately, or stopped at the iteration
@@ -114,11 +124,21 @@ class DiffIKQP(Controller):
             first solves it exactly on the last step's active set, then changes that set up
             to this many times (a primal-dual active-set method, each change one linear
             solve), and calls OSQP only when that does not settle. 0: only the last set.
+        evaluation: How a step without extra constraint rows computes its QP: ``"fused"``
+            (default), one CasADi function of the state for the kinematics, the PID law, the
+            QP's numbers and the exact solve on the last active set
+            (:class:`~controllers.fused_step.FusedStep`); ``"compiled"``, the same compiled to
+            C with the system's C compiler (about 0.4 s when the controller is made, then a
+            few microseconds a step); ``"pieces"``, :meth:`build` from
+            :mod:`controllers.qp_terms` at every step. All three give the same command to
+            round-off; the fused ones hand over to the pieces when the boxes do not overlap or
+            the orientation error is near half a turn.
 
     Raises:
         InvalidInputError: A bad gain, weight, scale or tolerance, or limits for another
             joint count.
-        UnknownNameError: An unknown task.
+        UnknownNameError: An unknown task or evaluation.
+        CompilerError: ``evaluation="compiled"`` and the C code did not compile.
     """
 
     def __init__(
@@ -140,6 +160,7 @@ class DiffIKQP(Controller):
         tolerance: float = 1e-7,
         max_iterations: int = 1000,
         active_set_changes: int = ACTIVE_SET_CHANGES,
+        evaluation: Literal["fused", "compiled", "pieces"] = "fused",
     ) -> None:
         self.robot = robot
         self.pid = CartesianPID(kp, ki, kd, integral_limit, task)
@@ -174,6 +195,9 @@ class DiffIKQP(Controller):
         self.tolerance = as_positive(tolerance, "tolerance")
         self.max_iterations = as_count(max_iterations, "max_iterations", minimum=1)
         self.active_set_changes = as_count(active_set_changes, "active_set_changes")
+        if evaluation not in EVALUATIONS:
+            raise UnknownNameError("evaluation", str(evaluation), EVALUATIONS)
+        self.evaluation = evaluation
         # Pieces that do not change from step to step, built once.
         self._damping = damping_objective(robot.dof, self.damping)
         self._velocity = velocity_bounds(self.limits.velocity, self.velocity_scale)
@@ -181,6 +205,10 @@ class DiffIKQP(Controller):
         self._solver: _Workspace | None = None
         self._last = np.zeros(robot.dof)
         self._active = _ActiveSet.none(robot.dof)
+        self._fused: FusedStep | None = None
+        self._fused_active: _ActiveSet | None = None  # the set FusedStep holds
+        if self._uses_fused:
+            self._fused = self._make_fused()
         #: What the last step did: ``"solver"`` (``"active set"`` or ``"osqp"``), OSQP's
         #: status and iterations, relaxed bounds, fallback.
         self.diagnostics: dict[str, Any] = {}
@@ -188,7 +216,28 @@ class DiffIKQP(Controller):
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
         state["_solver"] = None  # OSQP's workspace is rebuilt on the next step
+        state["_fused"] = None  # so is the CasADi function
+        state["_fused_active"] = None
         return state
+
+    @property
+    def _uses_fused(self) -> bool:
+        return self.evaluation != "pieces" and not self.constraints
+
+    def _make_fused(self) -> FusedStep:
+        settings = StepSettings(
+            self.pid,
+            self.weights,
+            self.damping,
+            self.posture_weight,
+            self.posture_gain,
+            self.limits,
+            self.velocity_scale,
+            self.position_gain,
+            _ActiveSet.SLACK,
+            self.active_set_changes,
+        )
+        return FusedStep(self.robot, settings, compiled=self.evaluation == "compiled")
 
     @property
     def name(self) -> str:
@@ -238,10 +287,51 @@ class DiffIKQP(Controller):
 
     def step(self, state: State, reference: Reference, dt: float) -> Command:
         """Build and solve this step's QP; a safe fallback when it cannot be solved."""
-        qp = self.build(state, reference, dt)
-        command = self.solve(qp, dt)
+        command = self._fused_step(state, reference, dt) if self._uses_fused else None
+        if command is None:
+            command = self.solve(self.build(state, reference, dt), dt)
         self._last = command.qd
         return command
+
+    def _fused_step(self, state: State, reference: Reference, dt: float) -> Command | None:
+        """The step through :class:`FusedStep`; None when the pieces must build it."""
+        fused = self._fused
+        if fused is None:  # after unpickling
+            fused = self._fused = self._make_fused()
+        if self._fused_active is not self._active:
+            fused.set_active(self._active.upper, self._active.lower)
+            self._fused_active = self._active
+        ok, fallback = fused(
+            state.q,
+            state.qd,
+            reference.T_world_tool,
+            reference.twist,
+            reference.q,
+            self.pid._integral,  # the PID's own state, advanced here by the same law
+            self._last,
+            dt,
+        )
+        if fallback:
+            return None
+        self.pid._integral = fused.integral.copy()
+        x = fused.x
+        if not ok and fused.search():  # the active set changed, and settled within the tries
+            x = fused.searched_x
+            self._active = _ActiveSet(fused.searched_upper > 0.5, fused.searched_lower > 0.5)
+            ok = True
+        if ok:
+            self.diagnostics = {"solver": "active set", "relaxed": ()}
+            return Command(np.minimum(np.maximum(x, fused.lower), fused.upper))
+        n = self.robot.dof
+        qp = QP(
+            fused.H.copy(),
+            fused.c.copy(),
+            identity(n),
+            fused.lower.copy(),
+            fused.upper.copy(),
+            (),
+        )
+        return self._solve_osqp(qp, dt)  # the same search has failed already
 
     def solve(self, qp: QP, dt: float) -> Command:
         """Solve an assembled QP: exactly on an active set reached from the last one, else OSQP.
@@ -252,14 +342,18 @@ class DiffIKQP(Controller):
             qp: From :meth:`build`.
             dt: Control period [s] (used by the fallback's deceleration).
         """
-        n = qp.c.size
-        bounds_only = qp.A.shape[0] == n
-        if bounds_only:
+        if qp.A.shape[0] == qp.c.size:  # bounds only
             found = self._active.search(qp, self.active_set_changes + 1)
             if found is not None:
                 self._active, x = found
                 self.diagnostics = {"solver": "active set", "relaxed": qp.relaxed}
                 return Command(x)
+        return self._solve_osqp(qp, dt)
+
+    def _solve_osqp(self, qp: QP, dt: float) -> Command:
+        """Solve with OSQP (set up on first use, then updated and warm started)."""
+        n = qp.c.size
+        bounds_only = qp.A.shape[0] == n
         if self._solver is None or self._solver.rows != qp.A.shape[0]:
             self._solver = _Workspace(qp, self.tolerance, self.max_iterations)
         solved, status, iterations, x, y = self._solver.solve(qp)

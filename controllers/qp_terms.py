@@ -34,6 +34,7 @@ __all__ = [
     "acceleration_bounds",
     "combine",
     "damping_objective",
+    "identity",
     "position_bounds",
     "posture_objective",
     "task_objective",
@@ -155,7 +156,7 @@ def posture_objective(
         weight: Weight ``w`` relative to the task [-].
         gain: Rate ``k`` at which the posture error is closed [1/s].
     """
-    return Objective(weight * _identity(q.size), (weight * gain) * (q - q_posture))
+    return Objective(weight * identity(q.size), (weight * gain) * (q - q_posture))
 
 
 # ---------------------------------------------------------------------------------- bounds
@@ -255,8 +256,8 @@ def combine(
         c += objective.c
     lower, upper, relaxed = _intersect(bounds, n)
     if not constraints:
-        return QP(H, c, _identity(n), lower, upper, relaxed)
-    rows = [_identity(n)]
+        return QP(H, c, identity(n), lower, upper, relaxed)
+    rows = [identity(n)]
     row_lower = [lower]
     row_upper = [upper]
     for constraint in constraints:
@@ -316,7 +317,7 @@ def _intersect(bounds: Sequence[Bounds], n: int) -> tuple[FloatArray, FloatArray
 
 
 @functools.cache
-def _identity(n: int) -> FloatArray:
+def identity(n: int) -> FloatArray:
     """The n x n identity, shared and read-only."""
     identity = np.eye(n)
     identity.flags.writeable = False

@@ -6,6 +6,7 @@ re-exports the errors only, so that ``import optraj`` stays cheap.
 """
 
 from optraj.errors import (
+    CompilerError,
     InfeasibleError,
     InvalidInputError,
     JointLimitError,
@@ -22,6 +23,7 @@ from optraj.errors import (
 )
 
 __all__ = [
+    "CompilerError",
     "InfeasibleError",
     "InvalidInputError",
     "JointLimitError",

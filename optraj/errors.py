@@ -13,6 +13,7 @@ import difflib
 from collections.abc import Iterable, Sequence
 
 __all__ = [
+    "CompilerError",
     "InfeasibleError",
     "InvalidInputError",
     "JointLimitError",
@@ -226,6 +227,23 @@ class SolverError(OptrajError):
         if detail:
             text += f": {detail}"
         super().__init__(text)
+
+
+class CompilerError(OptrajError):
+    """Generated C code could not be compiled: no C compiler on the machine, or it failed.
+
+    Attributes:
+        compiler: The compiler command that was tried, e.g. ``"gcc"``.
+        detail: What the compiler or the code generator said.
+    """
+
+    def __init__(self, compiler: str, detail: str) -> None:
+        self.compiler = compiler
+        self.detail = detail
+        super().__init__(
+            f"could not compile the generated C code with {compiler!r}: {detail.strip()}; "
+            "install a C compiler or evaluate without compiling"
+        )
 
 
 class PathJumpError(OptrajError):
