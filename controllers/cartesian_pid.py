@@ -25,12 +25,15 @@ from controllers.controller import Reference, as_gains, cross3, rotation_error
 from optraj.errors import UnknownNameError
 from robots import Robot
 
-__all__ = ["TASKS", "CartesianPID", "tool_kinematics"]
+__all__ = ["AXIS_SINE", "TASKS", "CartesianPID", "tool_kinematics"]
 
 FloatArray = NDArray[np.float64]
 
 #: Task kinds: the full pose (6-D), or position plus tool axis with free roll (5-D).
 TASKS: tuple[str, ...] = ("pose", "axis")
+#: Smallest ``|z x z_d|`` [-] with a defined correction axis in the 5-D task; below it the
+#: axes are parallel (or opposite) and the raw cross product is used.
+AXIS_SINE = 1e-12
 _WORLD_ALIGNED = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 _HALVES = ("linear", "angular")
 
@@ -119,7 +122,7 @@ class CartesianPID:
             normal = cross3(z, z_d)
             sine = math.sqrt(float(normal @ normal))
             angle = math.atan2(sine, float(z @ z_d))
-            error[3:] = normal * (angle / sine) if sine > 1e-12 else normal
+            error[3:] = normal * (angle / sine) if sine > AXIS_SINE else normal
         else:
             error[3:] = rotation_error(reference.T_world_tool[:3, :3], T_world_tool[:3, :3])
         return error

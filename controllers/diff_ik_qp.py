@@ -68,7 +68,7 @@ from controllers.qp_terms import (
     task_weights,
     velocity_bounds,
 )
-from optraj.errors import InvalidInputError, UnknownNameError
+from optraj.errors import InvalidInputError, UnknownNameError, UnsupportedModelError
 from optraj.validation import as_array, as_count, as_fraction, as_positive
 from robots import JointLimits, Robot
 
@@ -128,17 +128,22 @@ class DiffIKQP(Controller):
             (default), one CasADi function of the state for the kinematics, the PID law, the
             QP's numbers and the exact solve on the last active set
             (:class:`~controllers.fused_step.FusedStep`); ``"compiled"``, the same compiled to
-            C with the system's C compiler (about 0.4 s when the controller is made, then a
-            few microseconds a step); ``"pieces"``, :meth:`build` from
+            C with gcc (about 1 s when the controller is made or unpickled, then a few
+            microseconds a step); ``"pieces"``, :meth:`build` from
             :mod:`controllers.qp_terms` at every step. All three give the same command to
             round-off; the fused ones hand over to the pieces when the boxes do not overlap or
-            the orientation error is near half a turn.
+            the 6-D task's orientation error is near half a turn
+            (``diagnostics["evaluation"]`` says which built a step). ``"fused"`` becomes
+            ``"pieces"`` for a robot with joints :class:`robots.SymbolicModel` does not
+            handle.
 
     Raises:
         InvalidInputError: A bad gain, weight, scale or tolerance, or limits for another
             joint count.
         UnknownNameError: An unknown task or evaluation.
         CompilerError: ``evaluation="compiled"`` and the C code did not compile.
+        UnsupportedModelError: ``evaluation="compiled"`` for a robot with joints
+            :class:`robots.SymbolicModel` does not handle.
     """
 
     def __init__(
@@ -208,9 +213,15 @@ class DiffIKQP(Controller):
         self._fused: FusedStep | None = None
         self._fused_active: _ActiveSet | None = None  # the set FusedStep holds
         if self._uses_fused:
-            self._fused = self._make_fused()
-        #: What the last step did: ``"solver"`` (``"active set"`` or ``"osqp"``), OSQP's
-        #: status and iterations, relaxed bounds, fallback.
+            try:
+                self._fused = self._make_fused()
+            except UnsupportedModelError:
+                if evaluation == "compiled":
+                    raise
+                self.evaluation = "pieces"
+        #: What the last step did: ``"evaluation"`` (``"fused"``, ``"compiled"`` or
+        #: ``"pieces"``), ``"solver"`` (``"active set"`` or ``"osqp"``), OSQP's status and
+        #: iterations, relaxed bounds, fallback.
         self.diagnostics: dict[str, Any] = {}
 
     def __getstate__(self) -> dict[str, Any]:
@@ -288,8 +299,11 @@ class DiffIKQP(Controller):
     def step(self, state: State, reference: Reference, dt: float) -> Command:
         """Build and solve this step's QP; a safe fallback when it cannot be solved."""
         command = self._fused_step(state, reference, dt) if self._uses_fused else None
+        evaluation = self.evaluation
         if command is None:
             command = self.solve(self.build(state, reference, dt), dt)
+            evaluation = "pieces"
+        self.diagnostics["evaluation"] = evaluation
         self._last = command.qd
         return command
 

@@ -21,9 +21,10 @@ system's C compiler. Their inputs and outputs are NumPy arrays bound to them onc
 ``Function.buffer``), so a call costs about a microsecond plus the arithmetic.
 
 The step covers the usual case only. It reports ``fallback`` when the pieces must decide:
-boxes that do not overlap (the pieces relax them in priority order and name them), and a
-rotation error within :data:`NEAR_HALF_TURN` of half a turn, where the rotation axis is ill
-determined. When the rounds do not settle, the caller hands the numbers to OSQP.
+boxes that do not overlap (the pieces relax them in priority order and name them), and, for
+the 6-D task, a rotation error within :data:`NEAR_HALF_TURN` of half a turn, where the
+rotation axis is ill determined. When the rounds do not settle, the caller hands the numbers
+to OSQP.
 """
 
 from __future__ import annotations
@@ -38,7 +39,7 @@ import casadi as ca
 import numpy as np
 from numpy.typing import NDArray
 
-from controllers.cartesian_pid import CartesianPID
+from controllers.cartesian_pid import AXIS_SINE, CartesianPID
 from optraj.errors import CompilerError
 from robots import JointLimits, Robot, SymbolicModel
 
@@ -50,8 +51,6 @@ FloatArray = NDArray[np.float64]
 NEAR_HALF_TURN = 1e-3
 #: Below this angle [rad] the rotation vector uses the series of ``theta / (2 sin theta)``.
 SMALL_ANGLE = 1e-6
-#: Smallest ``|z x z_d|`` with a defined correction axis in the 5-D task (as CartesianPID).
-AXIS_SINE = 1e-12
 
 
 @dataclass(frozen=True)
@@ -89,13 +88,16 @@ class FusedStep:
     Args:
         robot: The robot; its tool frame is the task frame.
         settings: The controller's settings.
-        compiled: Compile the functions to C with ``compiler`` (about 0.5 s, once) and
+        compiled: Compile the functions to C with ``compiler`` (about 1 s, once) and
             evaluate that; otherwise CasADi's virtual machine evaluates them (several times
             slower arithmetic, no compiler needed).
         compiler: The C compiler command used when ``compiled``.
 
     Raises:
-        CompilerError: ``compiled`` and the code did not compile (no such compiler).
+        CompilerError: ``compiled`` and the code did not compile (no such compiler, or it
+            failed).
+        UnsupportedModelError: A joint type that :class:`robots.SymbolicModel` does not
+            handle.
 
     Two functions work on arrays bound to them once, with n = ``robot.dof``:
 
@@ -130,7 +132,9 @@ class FusedStep:
                 "jit_cleanup": False,
                 "jit_options": {
                     "compiler": compiler,
-                    "flags": ["-O2"],
+                    # No fused multiply-adds: the same rounding as NumPy and the virtual
+                    # machine, so that ties in the bound and optimality tests break alike.
+                    "flags": ["-O2", "-ffp-contract=off"],
                     "directory": directory,
                     "cleanup": False,
                     "verbose": False,
@@ -144,13 +148,18 @@ class FusedStep:
                 else None
             )
         except RuntimeError as error:
-            raise CompilerError(compiler, str(error).splitlines()[-1]) from error
+            if directory is None:
+                raise
+            lines = str(error).strip().splitlines()
+            raise CompilerError(compiler, lines[-1] if lines else "no message") from error
         finally:
             if directory is not None:
                 shutil.rmtree(directory, ignore_errors=True)
         self.input = np.zeros(4 * n + 29)
         self.active = np.zeros(2 * n)
-        self.output = np.zeros(n * n + 11 * n + 8)
+        self.output = np.zeros(n * n + 6 * n + 8)
+        if step.nnz_out(0) != self.output.size:
+            raise RuntimeError("FusedStep's output layout and its function disagree")
         self._step_buffer, self._step = _bind(step, [self.input, self.active], self.output)
         qp = self.output[n + 8 :]  # H, c, bounds and the next set: the search's input
         self.searched = np.zeros(3 * n + 1)
@@ -374,7 +383,9 @@ def _solve_on_set(
         + ca.fabs(next_lower - held_lower * (1 - pinned))
     )
     finite = ca.sum1(ca.fabs(x) < np.inf) == n
-    return x, finite * (same == 0), next_upper, next_lower
+    ok = finite * (same == 0)
+    # An optimal set is kept as it is (a pinned joint stays on the side it is held at).
+    return x, ok, ca.if_else(ok, held_upper, next_upper), ca.if_else(ok, held_lower, next_lower)
 
 
 def _cholesky_solve(M: ca.SX, rhs: ca.SX, n: int) -> ca.SX:

@@ -6,18 +6,22 @@ import dataclasses
 import pickle
 import shutil
 
+import casadi as ca
 import numpy as np
+import pinocchio as pin
 import pytest
 from conftest import get_robot
 
 import controllers
 import planners
 import problems
+import robots
 from controllers.controller import Reference, State
 from controllers.diff_ik_qp import DiffIKQP, _ActiveSet
-from controllers.fused_step import FusedStep, StepSettings
+from controllers.fused_step import FusedStep, StepSettings, _solve_on_set
+from controllers.qp_terms import QP, identity
 from controllers.simulation import Noise, simulate
-from optraj.errors import CompilerError, UnknownNameError
+from optraj.errors import CompilerError, UnknownNameError, UnsupportedModelError
 
 DT = 1e-3
 HAS_GCC = shutil.which("gcc") is not None
@@ -68,6 +72,7 @@ def _random_step(robot, rng, spread=0.01):
         ("sawyer", {}),
         ("sawyer", {"task": "axis"}),
         ("sawyer", {"kd": 0.2, "posture_weight": 0.0, "weights": (1.0, 0.3)}),
+        ("sawyer", {"ki": 0.0, "active_set_changes": 2}),
         ("paddle4", {"velocity_scale": 0.7}),
     ],
 )
@@ -178,6 +183,80 @@ def test_a_rotation_error_near_half_a_turn_goes_to_the_pieces():
         assert fallback == expected, angle
 
 
+def test_a_step_near_half_a_turn_is_the_pieces_step_with_one_integral_advance():
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(47)
+    state, reference, _, integral = _random_step(robot, rng, spread=0.0)
+    flipped = reference._replace(T_world_tool=reference.T_world_tool @ np.diag([1, -1, -1, 1.0]))
+    fused, pieces = DiffIKQP(robot), DiffIKQP(robot, evaluation="pieces")
+    for controller in (fused, pieces):
+        controller.reset(state)
+        controller.pid._integral = integral.copy()
+    a, b = fused.step(state, flipped, DT), pieces.step(state, flipped, DT)
+    assert fused.diagnostics["evaluation"] == "pieces"
+    np.testing.assert_array_equal(a.qd, b.qd)
+    np.testing.assert_array_equal(fused.pid.integral, pieces.pid.integral)
+    assert not np.array_equal(fused.pid.integral, integral)  # advanced, once
+
+
+def test_one_round_equals_the_numpy_round_with_pinned_joints():
+    n = 7
+    H, c, lower, upper, held_upper, held_lower = (
+        ca.SX.sym(name, *shape)
+        for name, shape in (
+            ("H", (n, n)), ("c", (n, 1)), ("lower", (n, 1)), ("upper", (n, 1)),
+            ("held_upper", (n, 1)), ("held_lower", (n, 1)),
+        )
+    )  # fmt: skip
+    round_ = ca.Function(
+        "round",
+        [H, c, lower, upper, held_upper, held_lower],
+        list(_solve_on_set(H, c, lower, upper, held_upper, held_lower, _ActiveSet.SLACK)),
+    )
+    rng = np.random.default_rng(48)
+    kinds = {"optimal": 0, "changed": 0, "pinned held at lower": 0}
+    for _ in range(400):
+        root = rng.normal(size=(n, n))
+        Hn = root @ root.T + 1e-3 * np.eye(n)
+        cn = rng.normal(size=n)
+        middle = rng.normal(size=n)
+        width = rng.uniform(0.0, 1.0, n) * (rng.random(n) < 0.8)  # some bounds meet
+        lo, up = middle - width, middle + width
+        qp = QP(Hn, cn, identity(n), lo, up, ())
+        found = _ActiveSet.none(n).search(qp, 60)
+        if found is None:
+            continue
+        up_mask, lo_mask = found[0].upper.copy(), found[0].lower.copy()
+        pinned = (lo >= up) & up_mask
+        if rng.random() < 0.5:  # pinned joints held at their lower bound instead
+            up_mask &= ~pinned
+            lo_mask |= pinned
+        if rng.random() < 0.4:  # a wrong guess
+            toggle = rng.integers(n)
+            up_mask[toggle], lo_mask[toggle] = (
+                lo_mask[toggle],
+                not (up_mask[toggle] | lo_mask[toggle]),
+            )
+        active = _ActiveSet(up_mask, lo_mask)
+        x = active._on_bounds(qp)
+        following = active._next(qp, x)
+        xf, ok, next_upper, next_lower = (
+            np.asarray(v).ravel() for v in round_(Hn, cn, lo, up, up_mask, lo_mask)
+        )
+        np.testing.assert_allclose(xf, x, rtol=0, atol=1e-8 * max(1.0, np.abs(x).max()))
+        assert bool(ok[0]) == (following is active)
+        if following is active:
+            kinds["optimal"] += 1
+            kinds["pinned held at lower"] += bool((lo_mask & (lo >= up)).any())
+            expected = (up_mask, lo_mask)  # kept as it is
+        else:
+            kinds["changed"] += 1
+            expected = (following.upper, following.lower)
+        np.testing.assert_array_equal(next_upper > 0.5, expected[0])
+        np.testing.assert_array_equal(next_lower > 0.5, expected[1])
+    assert min(kinds.values()) > 10, kinds
+
+
 def _closed_loop(controller, trajectory, **options):
     return simulate(controller.robot, trajectory, controller, plant="kinematic", **options)
 
@@ -210,8 +289,8 @@ def test_closed_loop_commands_equal_the_pieces(strikes, case):
     assert runs["fused"].metrics.violations["command"].count == 0
 
 
-def test_a_changed_active_set_is_solved_by_the_search_and_osqp():
-    """Where the last active set no longer holds, the fused numbers go to the search."""
+def test_steps_from_random_states_take_the_pieces_paths():
+    """From the empty set: kept at once or after changes, OSQP, and relaxed boxes."""
     robot = get_robot("sawyer")
     rng = np.random.default_rng(43)
     fused, pieces = DiffIKQP(robot), DiffIKQP(robot, evaluation="pieces")
@@ -227,10 +306,39 @@ def test_a_changed_active_set_is_solved_by_the_search_and_osqp():
         np.testing.assert_allclose(a.qd, b.qd, rtol=0, atol=1e-9)
         assert fused.diagnostics["solver"] == pieces.diagnostics["solver"]
         assert fused.diagnostics["relaxed"] == pieces.diagnostics["relaxed"]
-        paths.add((fused.diagnostics["solver"], bool(fused.diagnostics["relaxed"])))
-    # Steps of every kind: kept at once or after changes, and relaxed boxes via the pieces.
+        assert pieces.diagnostics["evaluation"] == "pieces"
+        relaxed = bool(fused.diagnostics["relaxed"])
+        assert fused.diagnostics["evaluation"] == ("pieces" if relaxed else "fused")
+        paths.add((fused.diagnostics["solver"], relaxed))
+    # Steps of every kind: the active set, OSQP, and relaxed boxes via the pieces.
     assert ("active set", False) in paths
+    assert ("osqp", False) in paths
     assert ("active set", True) in paths
+
+
+def test_every_call_solves_on_the_controllers_active_set(monkeypatch):
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(46)
+    controller = DiffIKQP(robot)
+    original = FusedStep.__call__
+    calls = []
+
+    def checked(self, *args):
+        held = self.active > 0.5
+        np.testing.assert_array_equal(held[: robot.dof], controller._active.upper)
+        np.testing.assert_array_equal(held[robot.dof :], controller._active.lower)
+        calls.append(controller._active.empty)
+        return original(self, *args)
+
+    monkeypatch.setattr(FusedStep, "__call__", checked)
+    state, reference, _, _ = _random_step(robot, rng)
+    controller.reset(state)
+    for _ in range(200):
+        command = controller.step(state, reference, DT)
+        q = state.q + command.qd * DT + rng.normal(0.0, 2e-4, robot.dof)
+        state = State(state.t + DT, q, command.qd)
+    assert len(calls) == 200
+    assert calls.count(False) > 20  # most steps start from a set that holds bounds
 
 
 def test_pickled_fused_controller_rebuilds_its_function():
@@ -262,7 +370,7 @@ def test_compiled_step_equals_the_virtual_machine(strikes):
 def test_a_missing_compiler_and_an_unknown_evaluation_are_named():
     robot = get_robot("paddle4")
     controller = DiffIKQP(robot)
-    with pytest.raises(CompilerError, match="no-such-cc"):
+    with pytest.raises(CompilerError, match=r"could not compile .* with 'no-such-cc'"):
         FusedStep(robot, _settings(controller), compiled=True, compiler="no-such-cc")
     with pytest.raises(UnknownNameError, match="evaluation 'fast'"):
         DiffIKQP(robot, evaluation="fast")  # type: ignore[arg-type]
@@ -273,3 +381,41 @@ def test_extra_rows_use_the_pieces():
     rows = controllers.Constraint(np.ones((1, robot.dof)), np.array([-0.1]), np.array([0.1]))
     controller = DiffIKQP(robot, constraints=[rows])
     assert controller._fused is None
+
+
+def _helical_robot():
+    """Two joints, the second helical: Pinocchio handles it, robots.SymbolicModel does not."""
+    model = pin.Model()
+    first = model.addJoint(0, pin.JointModelRZ(), pin.SE3.Identity(), "turn")
+    offset = pin.SE3(np.eye(3), np.array([0.3, 0.0, 0.0]))
+    second = model.addJoint(first, pin.JointModelHZ(0.01), offset, "screw")
+    model.appendBodyToJoint(first, pin.Inertia.FromSphere(1.0, 0.05), pin.SE3.Identity())
+    model.appendBodyToJoint(second, pin.Inertia.FromSphere(1.0, 0.05), pin.SE3.Identity())
+    tool = pin.SE3(np.eye(3), np.array([0.2, 0.0, 0.0]))
+    model.addFrame(pin.Frame("tool", second, 0, tool, pin.FrameType.OP_FRAME))
+    limits = robots.JointLimits(
+        names=("turn", "screw"),
+        kinds=("rad", "rad"),
+        lower=[-3.0, -3.0],
+        upper=[3.0, 3.0],
+        velocity=[2.0, 2.0],
+        acceleration=[10.0, 10.0],
+        jerk=[100.0, 100.0],
+        effort=[50.0, 50.0],
+    )
+    return robots.Robot("helical", model, limits, "tool", {"home": [0.0, 0.0]})
+
+
+def test_joints_the_symbolic_model_lacks_leave_the_default_on_the_pieces():
+    robot = _helical_robot()
+    controller = DiffIKQP(robot, task="axis")
+    assert controller.evaluation == "pieces"
+    q = np.array([0.2, -0.4])
+    reference = Reference(0.0, q + 0.01, np.zeros(2), np.zeros(2), robot.tool_pose(q + 0.01),
+                          np.zeros(6), "")  # fmt: skip
+    controller.reset(State(0.0, q, np.zeros(2)))
+    command = controller.step(State(0.0, q, np.zeros(2)), reference, DT)
+    assert controller.diagnostics["evaluation"] == "pieces"
+    assert np.all(np.abs(command.qd) <= robot.limits.velocity)
+    with pytest.raises(UnsupportedModelError, match="screw"):
+        DiffIKQP(robot, evaluation="compiled")
