@@ -236,7 +236,12 @@ class DiffIKQP(Controller):
         return self.evaluation != "pieces" and not self.constraints
 
     def _make_fused(self) -> FusedStep:
-        settings = StepSettings(
+        compiled = self.evaluation == "compiled"
+        return FusedStep(self.robot, self._step_settings(), compiled=compiled)
+
+    def _step_settings(self) -> StepSettings:
+        """This controller's settings, as a :class:`FusedStep` is built from them."""
+        return StepSettings(
             self.pid,
             self.weights,
             self.damping,
@@ -248,7 +253,6 @@ class DiffIKQP(Controller):
             _ActiveSet.SLACK,
             self.active_set_changes,
         )
-        return FusedStep(self.robot, settings, compiled=self.evaluation == "compiled")
 
     @property
     def name(self) -> str:

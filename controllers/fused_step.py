@@ -40,6 +40,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from controllers.cartesian_pid import AXIS_SINE, CartesianPID
+from controllers.qp_terms import task_weights
 from optraj.errors import CompilerError
 from robots import JointLimits, Robot, SymbolicModel
 
@@ -282,11 +283,10 @@ def _step_function(robot: Robot, settings: StepSettings, options: dict[str, Any]
         twist += kd * (twist_ref - J @ qd)
 
     # Objectives (qp_terms.task_objective, damping_objective, posture_objective).
-    linear_weight, angular_weight = settings.weights
-    W = ca.SX(np.diag([linear_weight] * 3 + [angular_weight] * 3))
-    if pid.task == "axis":
+    W = ca.SX(task_weights(*settings.weights))
+    if pid.task == "axis":  # task_weights(axis=...) with the symbolic tool axis
         axis = T[:3, 2]
-        W[3:, 3:] = W[3:, 3:] - angular_weight * (axis @ axis.T)
+        W[3:, 3:] = W[3:, 3:] - settings.weights[1] * (axis @ axis.T)
     WJ = W @ J
     H = J.T @ WJ + settings.damping * ca.SX.eye(n)
     c = -(WJ.T @ twist)
@@ -298,15 +298,14 @@ def _step_function(robot: Robot, settings: StepSettings, options: dict[str, Any]
     speed = ca.DM(settings.velocity_scale * limits.velocity)
     acceleration = ca.DM(limits.acceleration)
     step = acceleration * dt
-    lower = ca.fmax(-speed, last - step)
-    upper = ca.fmin(speed, last + step)
-    for room, side in ((ca.DM(limits.upper) - q, 1), (q - ca.DM(limits.lower), -1)):
+
+    def reach(room: ca.SX) -> ca.SX:
+        """Fastest speed towards a limit ``room`` away that still stops short of it."""
         brake = ca.sqrt(step * step + 2 * acceleration * ca.fmax(room, 0)) - step
-        reach = ca.fmin((settings.position_gain / dt) * room, brake)
-        if side > 0:
-            upper = ca.fmin(upper, reach)
-        else:
-            lower = ca.fmax(lower, -reach)
+        return ca.fmin((settings.position_gain / dt) * room, brake)
+
+    lower = ca.fmax(ca.fmax(-speed, last - step), -reach(q - ca.DM(limits.lower)))
+    upper = ca.fmin(ca.fmin(speed, last + step), reach(ca.DM(limits.upper) - q))
     overlap_lost = ca.sum1(lower > upper) > 0
 
     x, ok, held_upper, held_lower = _solve_on_set(

@@ -18,7 +18,7 @@ import problems
 import robots
 from controllers.controller import Reference, State
 from controllers.diff_ik_qp import DiffIKQP, _ActiveSet
-from controllers.fused_step import FusedStep, StepSettings, _solve_on_set
+from controllers.fused_step import FusedStep, _solve_on_set
 from controllers.qp_terms import QP, identity
 from controllers.simulation import Noise, simulate
 from optraj.errors import CompilerError, UnknownNameError, UnsupportedModelError
@@ -27,27 +27,8 @@ DT = 1e-3
 HAS_GCC = shutil.which("gcc") is not None
 
 
-def _fused(controller: DiffIKQP, compiled: bool = False) -> FusedStep:
-    return (
-        controller._make_fused()
-        if not compiled
-        else FusedStep(controller.robot, _settings(controller), compiled=True)
-    )
-
-
-def _settings(controller: DiffIKQP) -> StepSettings:
-    return StepSettings(
-        controller.pid,
-        controller.weights,
-        controller.damping,
-        controller.posture_weight,
-        controller.posture_gain,
-        controller.limits,
-        controller.velocity_scale,
-        controller.position_gain,
-        _ActiveSet.SLACK,
-        controller.active_set_changes,
-    )
+def _fused(controller: DiffIKQP) -> FusedStep:
+    return controller._make_fused()
 
 
 def _random_step(robot, rng, spread=0.01):
@@ -371,7 +352,7 @@ def test_a_missing_compiler_and_an_unknown_evaluation_are_named():
     robot = get_robot("paddle4")
     controller = DiffIKQP(robot)
     with pytest.raises(CompilerError, match=r"could not compile .* with 'no-such-cc'"):
-        FusedStep(robot, _settings(controller), compiled=True, compiler="no-such-cc")
+        FusedStep(robot, controller._step_settings(), compiled=True, compiler="no-such-cc")
     with pytest.raises(UnknownNameError, match="evaluation 'fast'"):
         DiffIKQP(robot, evaluation="fast")  # type: ignore[arg-type]
 
