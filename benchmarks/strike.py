@@ -16,6 +16,7 @@ Usage: ``python benchmarks/strike.py [--shots 100] [--quick] [--out PATH]``
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import math
 import statistics
 import sys
@@ -39,6 +40,13 @@ RESULTS = Path(__file__).resolve().parent / "results"
 
 QUANTITIES = ("position", "velocity", "acceleration", "jerk")
 REFERENCE = "cubic strike"  # the row motion times are compared with
+WEAK_SHOULDER = 0.1  # right_j0's effort limit in the binding-torque runs, of its rating [-]
+#: Torque runs of the solve-time table: (row label, OptimalControl options, weak shoulder).
+TORQUE_RUNS: tuple[tuple[str, dict[str, Any], bool], ...] = (
+    ("torque rows, linear", {"torque": True}, False),
+    ("torque rows, RNEA", {"torque": True, "torque_rows": "rnea"}, False),
+    ("torque binding, linear", {}, True),
+)
 
 
 def planners_to_compare() -> list[tuple[str, Any]]:
@@ -187,12 +195,30 @@ def _medians(runs: list[dict[str, float]]) -> tuple[str, str, str, str, str]:
     return med("wall"), p95, med("nlp"), med("iterations"), med("motion", 3)
 
 
+def weak_shoulder(shot: problems.PoolStrike) -> problems.PoolStrike:
+    """The shot with right_j0's effort limit at a tenth of its rating: the torque binds."""
+    effort = shot.limits.effort.copy()
+    effort[0] *= WEAK_SHOULDER
+    return dataclasses.replace(shot, limits=dataclasses.replace(shot.limits, effort=effort))
+
+
+def _compiled_then_timed(
+    planner: OptimalControl, shot: problems.PoolStrike, moved: problems.PoolStrike
+) -> dict[str, float]:
+    """Times ``moved`` after an untimed plan of ``shot`` has compiled the planner's NLPs."""
+    with contextlib.suppress(OptrajError):
+        planner.plan(shot)
+    return _timed(planner, moved)
+
+
 def extra_sections(shots: list[problems.PoolStrike], quick: bool = False) -> list[str]:
     """OptimalControl's solve times: cold, warm (ball moved 2 cm), torque rows, grid size."""
     count = 1 if quick else min(len(shots), 10)
     chosen = shots[:count]
-    cold, warm, torque = [], [], []
-    plain, with_torque = OptimalControl("time"), OptimalControl("time", torque=True)
+    cold, warm = [], []
+    plain = OptimalControl("time")
+    torque_runs: dict[str, list[dict[str, float]]] = {label: [] for label, _, _ in TORQUE_RUNS}
+    torque_planners = {label: OptimalControl("time", **kwargs) for label, kwargs, _ in TORQUE_RUNS}
     for index, shot in enumerate(chosen):
         progress(index, count, "optimal control extras")
         previous = plain.plan(shot) if math.isfinite(_timed(plain, shot)["wall"]) else None
@@ -209,7 +235,13 @@ def extra_sections(shots: list[problems.PoolStrike], quick: bool = False) -> lis
         if previous is not None:
             warm.append(_timed(plain, moved, warm_start=previous))
         if not quick:
-            torque.append(_timed(with_torque, shot))
+            for label, _, weak in TORQUE_RUNS:
+                first, second = (
+                    (weak_shoulder(shot), weak_shoulder(moved)) if weak else (shot, moved)
+                )
+                torque_runs[label].append(
+                    _compiled_then_timed(torque_planners[label], first, second)
+                )
     progress(count, count, "optimal control extras")
     grid = []
     for intervals in (5, 10) if quick else (5, 10, 20, 40):
@@ -222,16 +254,20 @@ def extra_sections(shots: list[problems.PoolStrike], quick: bool = False) -> lis
         f"Minimum time, {count} shots; cold: the ball moved 2 cm from each shot, solved from "
         "scratch (a solver already compiled for the grid); warm: the same, started from the "
         "unmoved shot's solution (primal and dual, and its contact branch when that still has "
-        "room; the warm-start solver also compiled already); torque rows: at every node from "
-        "the start. Wall time includes the contact choice (about 35 ms; about 3 ms from the "
-        "warm start's branch); NLP time is IPOPT alone. A kept branch may not be the one a "
-        "cold plan picks (the one the arm reaches soonest), so warm motions may take longer.",
+        "room; the warm-start solver also compiled already). Torque rows at every node from "
+        "the start (`torque=True`), linear (the default) or symbolic RNEA, and torque limits "
+        f"that bind (right_j0's effort at {WEAK_SHOULDER:g} of its rating, default "
+        '`torque="auto"`): cold like the first row, after an untimed plan of the unmoved '
+        "shot; NLP time and iterations are the last round's. Wall time includes the contact "
+        "choice (about 35 ms; about 3 ms from the warm start's branch) and every round; NLP "
+        "time is IPOPT alone. A kept branch may not be the one a cold plan picks (the one the "
+        "arm reaches soonest), so warm motions may take longer.",
         "",
         "| run | median wall [ms] | p95 wall [ms] | median NLP [ms] | median iterations "
         "| median motion [s] |",
         "|---|---|---|---|---|---|",
     ]
-    for label, runs in (("cold", cold), ("warm", warm), ("torque rows", torque)):
+    for label, runs in (("cold", cold), ("warm", warm), *torque_runs.items()):
         lines.append(f"| {label} | " + " | ".join(_medians(runs)) + " |")
     lines += [
         "",

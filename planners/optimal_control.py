@@ -34,11 +34,24 @@ Objectives
     ``stretch`` times the minimum.
 
 Torque limits
-    Symbolic RNEA rows at every node make a solve many times slower even when no torque
-    comes near its limit, so by default (``torque="auto"``) the NLP is solved without them,
-    the torques are evaluated densely, and rows are added only at the nodes around intervals
-    where a torque exceeds 90 % of its limit, then the NLP is solved again, warm started.
-    ``torque=True`` puts rows at every node, ``False`` none (the checker still reports them).
+    By default (``torque="auto"``) the NLP is first solved without torque rows and the
+    torques are evaluated densely (4 points per interval); only when one exceeds 90 % of its
+    limit do rows come in and the NLP is solved again, warm started. ``torque=True`` has
+    rows from the first solve, ``False`` none (the checker still reports the torques).
+
+    ``torque_rows="linear"`` (the default) writes them as the RNEA's first-order expansion
+    about the previous solution (about the initial guess in a first solve), at every node:
+    linear rows whose coefficients are NLP parameters, so one compiled NLP serves every
+    round and every problem of the same grid, and the Hessian stays as without torques.
+    Each further round expands about the last solution, primal and dual values carried
+    over, until the dense torques hold; at that fixed point the rows agree with the RNEA to
+    first order. ``"rnea"`` writes the symbolic RNEA itself, at the nodes around the hot
+    intervals only: exact rows, but each new set of nodes is a new NLP to build (about a
+    second) and its second derivatives make every iteration several times dearer.
+    From the second expansion on, the rows at both ends of an interval whose dense torque
+    still breaks its limit keep that excess more room (so rounds settle where the binding
+    nodes would otherwise swap back and forth, and torques that peak between nodes hold);
+    with RNEA rows the margin of every row widens when rows everywhere are not enough.
 
 Verification
     Limits on velocity, acceleration, jerk and position hold between nodes by construction.
@@ -69,6 +82,7 @@ Example::
 
 from __future__ import annotations
 
+import dataclasses
 import threading
 import time
 from collections.abc import Mapping
@@ -95,11 +109,13 @@ from planners.strike import strike_line
 from planners.time_scaling import quintic_coefficients
 from planners.trajectory import Phase, Trajectory
 from planners.transcription import (
+    TORQUE_ROWS,
     CompiledNLP,
     Structure,
     compile_nlp,
     parameter_vector,
     structure_limits,
+    torque_linearization,
 )
 from problems import PaddleStrike, PointToPoint, PoolStrike, Waypoints
 from problems.common import normal_pair
@@ -123,8 +139,8 @@ OBJECTIVES = ("time", "jerk", "effort")
 SOLVERS = ("ipopt", "fatrop", "sqpmethod", "blocksqp", "bonmin", "knitro", "snopt", "worhp")
 #: Torques above this fraction of their limit get rows at the surrounding nodes [-].
 TORQUE_WATCH = 0.9
-#: Rounds of solve, verify, refine.
-ROUNDS = 4
+#: Rounds of solve, verify, refine (linear torque rows converge in a few warm rounds).
+ROUNDS = 8
 #: Weight of the term that keeps neighbouring intervals of a free phase alike [-]: small, so
 #: that the nodes of a minimum-time joint move can sit on its jerk switches (within 0.2 % of
 #: the lower bound; 1.0 leaves some 0.2 % above it).
@@ -305,6 +321,7 @@ class OptimalControl:
         margin: Fraction of the velocity, acceleration and jerk limits kept free [-].
         torque: ``"auto"``, True or False (see the module docstring).
         torque_margin: Fraction of the torque limits kept free at torque rows [-].
+        torque_rows: ``"linear"`` or ``"rnea"`` (see the module docstring).
         regularization: Weight of the small jerk (and posture) terms [-].
         stretch: Factor on the minimum durations when the objective has no time term [-].
         max_iterations: Iteration cap of the solver.
@@ -339,6 +356,7 @@ class OptimalControl:
         margin: float = 1e-4,
         torque: bool | str = "auto",
         torque_margin: float = 0.01,
+        torque_rows: str = "linear",
         regularization: float = 1e-2,
         stretch: float = 1.2,
         max_iterations: int = 1000,
@@ -370,6 +388,9 @@ class OptimalControl:
                 f"torque must be 'auto', True or False, got {torque!r}", name="torque"
             )
         self.torque = torque
+        if torque_rows not in TORQUE_ROWS:
+            raise UnknownNameError("torque rows", torque_rows, TORQUE_ROWS)
+        self.torque_rows = torque_rows
         self.regularization = float(regularization)
         if not np.isfinite(self.regularization) or self.regularization < 0.0:
             raise InvalidInputError(
@@ -557,9 +578,18 @@ class OptimalControl:
             spec.intervals = saved.structure.intervals
             torque_nodes = saved.structure.torque_nodes
         torque_margin = self.torque_margin
+        row_margins: FloatArray | None = None  # linear rows: per node and joint
+        expansions = 0  # rounds in a row solved with linear rows
         for round_ in range(1, ROUNDS + 1):
             built = self._build(
-                problem, spec, weights, torque_nodes, strike_scale, warm_start, torque_margin
+                problem,
+                spec,
+                weights,
+                torque_nodes,
+                strike_scale,
+                warm_start,
+                torque_margin,
+                row_margins,
             )
             traj = self._solve(built)
             ratios = self._torque_ratios(traj, spec)
@@ -571,9 +601,20 @@ class OptimalControl:
                 return traj
             if not strike_ok:  # a finer strike grid renumbers the nodes
                 strike_scale *= 2
-                torque_nodes = ()
-            elif more:
-                if set(more) <= set(torque_nodes):  # rows everywhere needed: keep more room
+                torque_nodes, row_margins, expansions = (), None, 0
+            elif more and ratios is not None:
+                rows = built.compiled.structure.torque_nodes
+                if self.torque_rows == "linear":
+                    # Rows at every node: the next round expands about this solution. From
+                    # the second expansion about a solution with rows on, rows whose torques
+                    # still break the limit (at or between their nodes) keep more room, so
+                    # that rounds which swap the binding nodes back and forth settle.
+                    expansions = expansions + 1 if rows else 0
+                    if expansions >= 2:
+                        if row_margins is None:
+                            row_margins = np.full((len(rows), spec.limits.n), torque_margin)
+                        row_margins = _tightened(row_margins, ratios[2] / spec.limits.effort)
+                elif set(more) <= set(rows):  # rows everywhere needed: keep more room
                     torque_margin = min(0.2, 2.0 * torque_margin + 0.01)
                 torque_nodes = tuple(sorted(set(torque_nodes) | set(more)))
             warm_start = traj
@@ -700,6 +741,11 @@ class OptimalControl:
                     "ipopt.constr_viol_tol": 1e-9,
                     "ipopt.max_iter": self.max_iterations,
                     "ipopt.mu_strategy": "monotone",
+                    # MUMPS's own row and column scaling costs about a third of a solve on
+                    # these KKT systems, whose rows are already scaled by the limits, and
+                    # changes no iterate count (measured on the strike benchmark's shots).
+                    "ipopt.mumps_permuting_scaling": 0,
+                    "ipopt.mumps_scaling": 0,
                 }
             )
         options.update(self.solver_options)
@@ -726,13 +772,16 @@ class OptimalControl:
         strike_scale: int | None,
         warm_start: Trajectory | None,
         torque_margin: float | None = None,
+        row_margins: FloatArray | None = None,
     ) -> OptimalControlProblem:
         grids = self._grids(spec, strike_scale or 1)
         intervals = tuple(g.intervals for g in grids)
         first = np.concatenate([[0], np.cumsum(intervals)]).astype(int)
         nodes = int(first[-1]) + 1
-        if self.torque is True:
+        linear = self.torque_rows == "linear"
+        if self.torque is True or (linear and torque_nodes):
             torque_nodes = tuple(range(nodes))
+        margin = self.torque_margin if torque_margin is None else torque_margin
         structure = Structure(
             robot=spec.robot.name,
             limits=structure_limits(spec.limits),
@@ -743,9 +792,10 @@ class OptimalControl:
             strike_phase=spec.strike_phase,
             contact_node=int(first[spec.contact_phase + 1]) if spec.contact_phase >= 0 else -1,
             torque_nodes=tuple(n for n in torque_nodes if n < nodes),
+            torque_rows=self.torque_rows,
             weights=tuple(sorted(weights.items())),
             margin=self.margin,
-            torque_margin=self.torque_margin if torque_margin is None else torque_margin,
+            torque_margin=0.0 if linear else margin,  # linear rows: in their coefficients
             solver=self.solver,
             options=self._options(),
         )
@@ -784,6 +834,10 @@ class OptimalControl:
         x0, lam_x0, lam_g0 = self._initial(spec, grids, compiled, lbx, ubx, warm_start)
         params = dict(spec.params)
         params["time_scale"] = sum(g.guess for g in grids)
+        p = parameter_vector(**params)
+        if linear:  # expanded about the initial point: the previous solution or the guess
+            room = margin if row_margins is None else row_margins
+            p = np.concatenate([p, torque_linearization(compiled, x0, room)])
         return OptimalControlProblem(
             problem=problem,
             compiled=compiled,
@@ -791,7 +845,7 @@ class OptimalControl:
             x0=x0,
             lbx=lbx,
             ubx=ubx,
-            p=parameter_vector(**params),
+            p=p,
             lam_x0=lam_x0,
             lam_g0=lam_g0,
             contact=spec.contact,
@@ -810,8 +864,10 @@ class OptimalControl:
         """Initial primal (and dual) values: a previous solution, or states sampled at nodes."""
         if warm_start is not None:
             saved = warm_start.metadata.get("warm_start")
-            if isinstance(saved, WarmStart) and saved.structure == compiled.structure:
-                return np.clip(saved.w, lbx, ubx), saved.lam_x, saved.lam_g
+            if isinstance(saved, WarmStart):
+                lam_g = _constraint_duals(saved, compiled)
+                if lam_g is not None:
+                    return np.clip(saved.w, lbx, ubx), saved.lam_x, lam_g
         source = spec.guess
         if warm_start is not None and {g.name for g in grids} <= {
             p.name for p in warm_start.phases
@@ -926,6 +982,65 @@ def _hashable(value: Any) -> Any:
     if isinstance(value, list):
         return tuple(_hashable(v) for v in value)
     return value
+
+
+def _tightened(margins: FloatArray, ratio: FloatArray, per_interval: int = 4) -> FloatArray:
+    """Torque row margins after a round whose dense torques broke their limits.
+
+    Args:
+        margins: Margins of the rows at every node, shape (K + 1, n) [-].
+        ratio: Signed torque over effort limit at ``per_interval`` points per interval and
+            the last node (as :func:`_dense_times`), shape (per_interval K + 1, n) [-].
+        per_interval: Points per interval in ``ratio``.
+
+    Returns:
+        The margins of both end nodes of an interval whose peak passes ``1 - margin / 2``
+        raised by that excess plus 0.005, at most 0.5.
+    """
+    size = np.abs(ratio)
+    intervals = margins.shape[0] - 1
+    inner = size[:-1].reshape(intervals, per_interval, -1).max(axis=1)
+    peaks = np.maximum(inner, size[per_interval::per_interval])  # (K, n), ends included
+    excess = peaks - (1.0 - 0.5 * np.minimum(margins[:-1], margins[1:]))
+    bump = np.where(excess > 0.0, excess + 0.005, 0.0)
+    raised = margins.copy()
+    raised[:-1] = np.maximum(raised[:-1], margins[:-1] + bump)
+    raised[1:] = np.maximum(raised[1:], margins[1:] + bump)
+    return np.minimum(raised, 0.5)
+
+
+def _constraint_duals(saved: WarmStart, compiled: CompiledNLP) -> FloatArray | None:
+    """A solution's constraint multipliers for ``compiled``, or None when they do not apply.
+
+    They apply to the same structure, and to one that differs only in its torque rows
+    (those come last, n per node): a torque node's multipliers carry over where it had
+    rows before, new rows start at zero.
+    """
+    old, new = saved.structure, compiled.structure
+    if old == new:
+        return saved.lam_g
+    same_rows = dataclasses.replace(
+        old,
+        torque_nodes=new.torque_nodes,
+        torque_rows=new.torque_rows,
+        torque_margin=new.torque_margin,
+    )
+    if same_rows != new:
+        return None
+    n = compiled.layout.n
+    base = saved.lam_g.size - n * len(old.torque_nodes)
+    lam_g = np.zeros(compiled.lbg.size)
+    if base < 0 or base + n * len(new.torque_nodes) != lam_g.size:
+        return None
+    lam_g[:base] = saved.lam_g[:base]
+    before = {node: i for i, node in enumerate(old.torque_nodes)}
+    for i, node in enumerate(new.torque_nodes):
+        if node in before:
+            j = before[node]
+            lam_g[base + n * i : base + n * (i + 1)] = saved.lam_g[
+                base + n * j : base + n * (j + 1)
+            ]
+    return lam_g
 
 
 def _dense_times(traj: Trajectory, per_interval: int) -> FloatArray:

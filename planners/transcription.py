@@ -23,7 +23,13 @@ Limits hold everywhere, not only at the nodes: acceleration is linear and jerk c
 an interval, so node bounds suffice for them; velocity (quadratic) and position (cubic) are
 bounded by the Bernstein coefficients of their polynomials on each interval, which bound the
 polynomial from both sides (convex-hull property). Torques are constrained at chosen nodes
-only (symbolic RNEA); the planner verifies them between nodes.
+only; the planner verifies them between nodes. Their rows are either the symbolic RNEA
+itself (``torque_rows="rnea"``) or its first-order expansion about given node states
+(``"linear"``): rows linear in the node state whose coefficients are NLP parameters
+(:func:`torque_linearization`), so they add nothing to the Hessian and one compiled NLP
+serves every expansion point. The planner expands again about each solution until the
+dense torques hold; at a fixed point the rows equal the RNEA rows to first order, so the
+solution satisfies the same optimality conditions.
 
 Task rows:
 
@@ -52,17 +58,24 @@ import casadi as ca
 import numpy as np
 from numpy.typing import NDArray
 
+from optraj.errors import UnknownNameError
 from robots import JointLimits, SymbolicModel
 
 __all__ = [
     "PARAMETERS",
+    "TORQUE_ROWS",
     "CompiledNLP",
     "Layout",
     "Structure",
     "compile_nlp",
     "parameter_vector",
     "structure_limits",
+    "torque_linearization",
+    "torque_parameter_count",
 ]
+
+#: Ways of writing the torque rows (module docstring).
+TORQUE_ROWS = ("rnea", "linear")
 
 FloatArray = NDArray[np.float64]
 
@@ -106,9 +119,12 @@ class Structure:
         strike_phase: Index of the strike phase, or -1.
         contact_node: Node of the contact velocity rows, or -1.
         torque_nodes: Nodes with torque rows.
+        torque_rows: ``"rnea"`` (the symbolic inverse dynamics) or ``"linear"`` (its
+            expansion, coefficients as parameters after :data:`PARAMETERS`).
         weights: Objective weights as ``(term, weight)`` pairs (time, jerk, effort, posture).
         margin: Fraction of the velocity, acceleration and jerk limits kept free [-].
-        torque_margin: Fraction of the torque limits kept free at torque nodes [-].
+        torque_margin: Fraction of the torque limits kept free at torque nodes [-] (RNEA
+            rows; linear rows take it in their coefficients).
         solver: CasADi NLP plugin name.
         options: Solver options as sorted ``(key, value)`` pairs.
     """
@@ -122,6 +138,7 @@ class Structure:
     strike_phase: int = -1
     contact_node: int = -1
     torque_nodes: tuple[int, ...] = ()
+    torque_rows: str = "rnea"
     weights: tuple[tuple[str, float], ...] = (("time", 1.0),)
     margin: float = 0.0
     torque_margin: float = 0.0
@@ -189,6 +206,9 @@ class CompiledNLP:
         scale: Physical scales ``(mid, half, velocity, acceleration, jerk)``, each (n,).
         solver: ``nlpsol`` for cold starts.
         constraint_values: ``(w, p) -> g``, to measure a solution's violations.
+        torque_expansion: ``z (3n, m) -> (t (n, m), J (n, 3n m))``: the torques over the
+            effort limits at m scaled node states and their Jacobians, for linear torque
+            rows (None without them).
         lock: Serialises calls of the solvers.
     """
 
@@ -204,6 +224,7 @@ class CompiledNLP:
     scale: tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
     solver: ca.Function
     constraint_values: ca.Function
+    torque_expansion: ca.Function | None = None
     warm_solver: ca.Function | None = None
     lock: threading.Lock = field(default_factory=threading.Lock)
 
@@ -264,6 +285,50 @@ def structure_limits(limits: JointLimits) -> tuple[tuple[float, ...], ...]:
     )
 
 
+def torque_parameter_count(structure: Structure) -> int:
+    """Parameters of the linear torque rows, after :data:`PARAMETERS` (0 for RNEA rows)."""
+    if structure.torque_rows != "linear":
+        return 0
+    n = len(structure.limits[0])
+    return len(structure.torque_nodes) * (n + 3 * n * n)
+
+
+def torque_linearization(
+    compiled: CompiledNLP, w: FloatArray, margin: float | FloatArray
+) -> FloatArray:
+    """Coefficients of linear torque rows, expanded about the node states of ``w``.
+
+    The row of a torque node is ``c + B z`` with ``z = (zq, zv, za)`` its scaled state,
+    bounded by [-1, 1]: at the expansion point it equals the RNEA torque over
+    ``(1 - margin)`` times the effort limit, and its gradient is the RNEA's.
+
+    Args:
+        compiled: An NLP with linear torque rows.
+        w: Decision vector whose node states are the expansion points.
+        margin: Fraction of the torque limits kept free [-]: one for every row, or one per
+            torque node and joint, shape (nodes, n).
+
+    Returns:
+        Parameter values, shape (:func:`torque_parameter_count`,): per torque node ``c``
+        then ``B`` (n x 3n) in column order.
+    """
+    structure, layout = compiled.structure, compiled.layout
+    nodes = structure.torque_nodes
+    if compiled.torque_expansion is None or not nodes:
+        return np.zeros(0)
+    n = layout.n
+    _, states, _ = layout.split(np.asarray(w, dtype=float))
+    z = states[list(nodes)].T  # (3n, m)
+    t, jac = (np.asarray(v) for v in compiled.torque_expansion(z))
+    # The mapped Jacobians sit side by side, (n, 3n m): node i's in columns 3n i .. 3n (i + 1).
+    jac = jac.reshape(n, 3 * n, len(nodes), order="F").transpose(2, 0, 1)  # (m, n, 3n)
+    scale = np.broadcast_to(1.0 / (1.0 - np.asarray(margin, dtype=float)), (len(nodes), n))
+    c = scale * (t.T - np.einsum("mij,jm->mi", jac, z))
+    b = scale[:, :, None] * jac
+    blocks = [np.concatenate([c[i], b[i].reshape(-1, order="F")]) for i in range(len(nodes))]
+    return np.concatenate(blocks)
+
+
 def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
     """Build the NLP of ``structure`` (fully expanded SX) and its solver.
 
@@ -278,8 +343,11 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
     n = lower.size
     layout = Layout(n, structure.intervals)
     mid, half = 0.5 * (lower + upper), 0.5 * (upper - lower)
+    if structure.torque_rows not in TORQUE_ROWS:
+        raise UnknownNameError("torque rows", structure.torque_rows, TORQUE_ROWS)
     w = ca.SX.sym("w", layout.size)
-    p = ca.SX.sym("p", sum(size for _, size in PARAMETERS))
+    base = sum(size for _, size in PARAMETERS)
+    p = ca.SX.sym("p", base + torque_parameter_count(structure))
     params: dict[str, ca.SX] = {}
     offset = 0
     for name, size in PARAMETERS:
@@ -343,10 +411,23 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
         _strike_rows(rows, structure, layout, symbolic, params, h, state)
     if structure.contact_node >= 0:
         _contact_rows(rows, structure, symbolic, params, state)
-    for node in structure.torque_nodes:
-        tau = rnea(*state(node)) / effort
-        limit = 1.0 - structure.torque_margin
-        rows.add("torque", tau, -limit, limit)
+    expansion = None
+    if structure.torque_rows == "linear":
+        size = n + 3 * n * n
+        for i, node in enumerate(structure.torque_nodes):
+            block = p[base + i * size : base + (i + 1) * size]
+            z = w[layout.x_index(node, 0).start : layout.x_index(node, 2).stop]
+            rows.add("torque", block[:n] + ca.reshape(block[n:], n, 3 * n) @ z, -1.0, 1.0)
+        if structure.torque_nodes:
+            z = ca.SX.sym("z", 3 * n)
+            t = rnea(mid + half * z[:n], vel * z[n : 2 * n], acc * z[2 * n :]) / effort
+            single = ca.Function("torque_expansion", [z], [t, ca.jacobian(t, z)])
+            expansion = single.map(len(structure.torque_nodes))
+    else:
+        for node in structure.torque_nodes:
+            tau = rnea(*state(node)) / effort
+            limit = 1.0 - structure.torque_margin
+            rows.add("torque", tau, -limit, limit)
 
     g = ca.vertcat(*rows.rows)
     compiled = CompiledNLP(
@@ -362,6 +443,7 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
         scale=(mid, half, vel, acc, jerk),
         solver=None,  # type: ignore[arg-type]
         constraint_values=ca.Function("constraint_values", [w, p], [g]),
+        torque_expansion=expansion,
     )
     compiled.solver = _nlpsol(compiled, dict(structure.options))
     return compiled

@@ -19,7 +19,9 @@ from optraj.errors import (
     UnknownNameError,
 )
 from planners import Quintic, Trajectory, check, lower_bound
-from planners.optimal_control import OptimalControl, WarmStart
+from planners.optimal_control import OptimalControl, WarmStart, _constraint_duals, _tightened
+from planners.transcription import compile_nlp
+from robots import SymbolicModel
 
 SAWYER_SHOT = {"x": (0.65, 0.85), "y": (-0.05, 0.3), "z": (-0.1, 0.0), "heading": (-20.0, 20.0)}
 
@@ -179,7 +181,8 @@ def test_waypoints_are_passed_through():
     assert [p.name for p in traj.phases] == ["segment 1", "segment 2", "segment 3"]
 
 
-def test_a_torque_limit_that_binds_gets_rows_and_holds():
+@pytest.mark.parametrize("rows", ["linear", "rnea"])
+def test_a_torque_limit_that_binds_gets_rows_and_holds(rows):
     robot = get_robot("youbot")
     q0 = robot.home
     q1 = q0 + 0.6 * (robot.limits.upper - q0)
@@ -190,15 +193,76 @@ def test_a_torque_limit_that_binds_gets_rows_and_holds():
     gravity = np.max(
         np.abs(robot.inverse_dynamics(s.q, np.zeros_like(s.q), np.zeros_like(s.q))), axis=0
     )
-    # Between what gravity needs and what the fastest move uses: the limit must bind.
-    effort = np.minimum(robot.limits.effort, np.maximum(1.02 * gravity, 0.9 * peak))
+    # Gravity plus 30 % of the torque the fastest move adds on top: the move must slow down.
+    effort = np.minimum(
+        robot.limits.effort, np.maximum(1.05 * gravity, gravity + 0.3 * (peak - gravity))
+    )
     limits = dataclasses.replace(robot.limits, effort=effort)
     problem = problems.PointToPoint(robot, q0, q1, limits=limits)
-    traj = OptimalControl("time").plan(problem)
+    assert [f.name for f in check(unlimited, problem).violations] == ["torque"]
+    traj = OptimalControl("time", torque_rows=rows).plan(problem)
     report = check(traj, problem)
     assert report.ok, report.summary()
     assert traj.metadata["torque_rows"] > 0
-    assert traj.duration > unlimited.duration
+    assert traj.duration > 1.05 * unlimited.duration
+
+
+def test_a_pool_strike_with_a_weak_shoulder_keeps_its_torque_limit():
+    # right_j0 carries no gravity; a tenth of its rating binds while the arm swings round.
+    shot = problems.sawyer_pool_shot()
+    effort = shot.limits.effort.copy()
+    effort[0] *= 0.1
+    weak = dataclasses.replace(shot, limits=dataclasses.replace(shot.limits, effort=effort))
+    free = OptimalControl("time").plan(shot)
+    assert [f.name for f in check(free, weak).violations] == ["torque"]
+    traj = OptimalControl("time").plan(weak)
+    report = check(traj, weak)
+    assert report.ok, report.summary()
+    assert traj.metadata["torque_rows"] > 0 and traj.metadata["rounds"] > 1
+
+
+def test_tightened_raises_both_ends_of_an_interval_by_its_excess():
+    margins = np.full((3, 2), 0.01)
+    ratio = np.zeros((9, 2))  # 2 intervals, 4 points each, and the last node
+    ratio[2, 1] = -1.02  # inside interval 0, joint 1: 0.025 over 1 - 0.01 / 2
+    ratio[8, 0] = 0.99  # last node, joint 0: within 1 - 0.005
+    raised = _tightened(margins, ratio)
+    np.testing.assert_allclose(raised[:, 0], 0.01)
+    np.testing.assert_allclose(raised[:, 1], [0.01 + 0.025 + 0.005] * 2 + [0.01])
+    ratio[8, 0] = 5.0
+    assert _tightened(margins, ratio).max() == 0.5  # capped
+
+
+def test_constraint_duals_carry_over_where_only_the_torque_rows_differ():
+    robot = get_robot("youbot")
+    problem = problems.PointToPoint(robot, robot.home, robot.home + 0.3)
+    saved = OptimalControl("time", torque=False).plan(problem).metadata["warm_start"]
+    n, model = robot.dof, SymbolicModel(robot)
+    rng = np.random.default_rng(5)
+
+    def warm(structure):
+        compiled = compile_nlp(structure, model)
+        lam_g = rng.standard_normal(compiled.lbg.size)
+        return compiled, WarmStart(structure, saved.w, saved.lam_x, lam_g)
+
+    base = saved.lam_g.size
+    rnea, start = warm(dataclasses.replace(saved.structure, torque_nodes=(1, 2)))
+    linear, _ = warm(
+        dataclasses.replace(saved.structure, torque_nodes=(0, 2, 3), torque_rows="linear")
+    )
+    lam = _constraint_duals(start, linear)
+    np.testing.assert_array_equal(lam[:base], start.lam_g[:base])
+    np.testing.assert_array_equal(lam[base : base + n], 0.0)  # node 0: new rows start at zero
+    np.testing.assert_array_equal(lam[base + n : base + 2 * n], start.lam_g[base + n :])  # node 2
+    np.testing.assert_array_equal(lam[base + 2 * n :], 0.0)
+    np.testing.assert_array_equal(_constraint_duals(start, rnea), start.lam_g)
+    other_grid = compile_nlp(
+        dataclasses.replace(
+            saved.structure, intervals=tuple(i + 1 for i in saved.structure.intervals)
+        ),
+        model,
+    )
+    assert _constraint_duals(start, other_grid) is None
 
 
 def test_a_torque_limit_gravity_alone_breaks_is_infeasible():
@@ -345,6 +409,7 @@ def test_solvers_by_name():
         ({"objective": {}}, "objective"),
         ({"margin": 0.7}, "margin"),
         ({"torque": "sometimes"}, "torque"),
+        ({"torque_rows": "exact"}, "torque rows"),
         ({"stretch": 0.5}, "stretch"),
         ({"intervals": 0}, "intervals"),
         ({"step": -0.1}, "step"),

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from conftest import get_robot
 
+from optraj.errors import UnknownNameError
 from planners.transcription import (
     PARAMETERS,
     Layout,
@@ -14,11 +15,13 @@ from planners.transcription import (
     compile_nlp,
     parameter_vector,
     structure_limits,
+    torque_linearization,
+    torque_parameter_count,
 )
 from robots import SymbolicModel
 
 
-def _compiled(intervals=(4, 3)):
+def _compiled(intervals=(4, 3), **fields):
     robot = get_robot("youbot")
     structure = Structure(
         robot=robot.name,
@@ -26,6 +29,7 @@ def _compiled(intervals=(4, 3)):
         tool_frame=robot.tool_frame,
         intervals=intervals,
         free=(True, False),
+        **fields,
     )
     return robot, compile_nlp(structure, SymbolicModel(robot))
 
@@ -112,3 +116,45 @@ def test_parameter_vector_names_what_is_wrong():
         parameter_vector(speed=[1.0, 2.0])
     with pytest.raises(ValueError, match="unknown"):
         parameter_vector(velocity=1.0)
+
+
+def _node_torques(robot, compiled, w, nodes):
+    """Pinocchio's inverse dynamics at the nodes of ``w``, over the effort limits."""
+    mid, half, vel, acc, _ = compiled.scale
+    _, states, _ = compiled.layout.split(w)
+    n = compiled.layout.n
+    x = states[list(nodes)]
+    tau = robot.inverse_dynamics(mid + half * x[:, :n], vel * x[:, n : 2 * n], acc * x[:, 2 * n :])
+    return tau / robot.limits.effort
+
+
+def test_linear_torque_rows_are_the_rnea_to_first_order():
+    nodes = (0, 2, 5, 7)
+    robot, compiled = _compiled(torque_nodes=nodes, torque_rows="linear")
+    layout = compiled.layout
+    margin = 0.05
+    rng = np.random.default_rng(3)
+    w = _exact_motion(compiled, rng)
+    w[layout.x_start : layout.u_start] = rng.uniform(-0.8, 0.8, layout.u_start - layout.x_start)
+    block = torque_linearization(compiled, w, margin)
+    assert block.size == torque_parameter_count(compiled.structure) == len(nodes) * (5 + 3 * 25)
+    p = np.concatenate([parameter_vector(), block])
+
+    def rows(x):
+        g = np.asarray(compiled.constraint_values(x, p)).reshape(-1)
+        return np.concatenate([g[a:b] for name, a, b in compiled.groups if name == "torque"])
+
+    exact = _node_torques(robot, compiled, w, nodes) / (1.0 - margin)
+    np.testing.assert_allclose(rows(w), exact.reshape(-1), atol=1e-12)
+    step = np.zeros_like(w)
+    step[layout.x_start : layout.u_start] = rng.standard_normal(layout.u_start - layout.x_start)
+    for eps in (1e-3, 1e-4):  # the error shrinks with the square of the step: the slope is right
+        moved = _node_torques(robot, compiled, w + eps * step, nodes) / (1.0 - margin)
+        error = np.abs(rows(w + eps * step) - moved.reshape(-1)).max()
+        change = np.abs(moved - exact).max()
+        assert error < 1e-3 * change, (eps, error, change)
+
+
+def test_unknown_torque_rows_are_named():
+    with pytest.raises(UnknownNameError, match="rnea"):
+        _compiled(torque_nodes=(1,), torque_rows="quadratic")
