@@ -139,6 +139,8 @@ OBJECTIVES = ("time", "jerk", "effort")
 SOLVERS = ("ipopt", "fatrop", "sqpmethod", "blocksqp", "bonmin", "knitro", "snopt", "worhp")
 #: Torques above this fraction of their limit get rows at the surrounding nodes [-].
 TORQUE_WATCH = 0.9
+#: Points per interval at which the torques are evaluated after a solve.
+TORQUE_POINTS = 4
 #: Rounds of solve, verify, refine (linear torque rows converge in a few warm rounds).
 ROUNDS = 8
 #: Weight of the term that keeps neighbouring intervals of a free phase alike [-]: small, so
@@ -641,14 +643,14 @@ class OptimalControl:
     def _torque_ratios(
         traj: Trajectory, spec: _Spec
     ) -> tuple[FloatArray, FloatArray, FloatArray] | None:
-        """Torques at 4 points per interval: (times, worst |tau| / effort per time, tau).
+        """Torques at TORQUE_POINTS per interval: (times, worst |tau| / effort, tau).
 
         None when the effort limits are not all finite (nothing to watch).
         """
         effort = spec.limits.effort
         if not np.all(np.isfinite(effort)):
             return None
-        times = _dense_times(traj, 4)
+        times = _dense_times(traj, TORQUE_POINTS)
         s = traj.sample(times)
         tau = spec.robot.inverse_dynamics(s.q, s.qd, s.qdd)
         return times, np.max(np.abs(tau) / effort, axis=1), tau
@@ -984,7 +986,9 @@ def _hashable(value: Any) -> Any:
     return value
 
 
-def _tightened(margins: FloatArray, ratio: FloatArray, per_interval: int = 4) -> FloatArray:
+def _tightened(
+    margins: FloatArray, ratio: FloatArray, per_interval: int = TORQUE_POINTS
+) -> FloatArray:
     """Torque row margins after a round whose dense torques broke their limits.
 
     Args:

@@ -356,9 +356,15 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
 
     h = [w[k] for k in range(layout.K)]
 
+    def physical(z: ca.SX) -> tuple[ca.SX, ca.SX, ca.SX]:
+        """(q, qd, qdd) of a scaled node state ``z = (zq, zv, za)``."""
+        return mid + half * z[:n], vel * z[n : 2 * n], acc * z[2 * n :]
+
+    def node_state(node: int) -> ca.SX:
+        return w[layout.x_index(node, 0).start : layout.x_index(node, 2).stop]
+
     def state(node: int) -> tuple[ca.SX, ca.SX, ca.SX]:
-        zq, zv, za = (w[layout.x_index(node, b)] for b in range(3))
-        return mid + half * zq, vel * zv, acc * za
+        return physical(node_state(node))
 
     rows = _Rows()
     keep = 1.0 - structure.margin
@@ -416,11 +422,11 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
         size = n + 3 * n * n
         for i, node in enumerate(structure.torque_nodes):
             block = p[base + i * size : base + (i + 1) * size]
-            z = w[layout.x_index(node, 0).start : layout.x_index(node, 2).stop]
+            z = node_state(node)
             rows.add("torque", block[:n] + ca.reshape(block[n:], n, 3 * n) @ z, -1.0, 1.0)
         if structure.torque_nodes:
             z = ca.SX.sym("z", 3 * n)
-            t = rnea(mid + half * z[:n], vel * z[n : 2 * n], acc * z[2 * n :]) / effort
+            t = rnea(*physical(z)) / effort
             single = ca.Function("torque_expansion", [z], [t, ca.jacobian(t, z)])
             expansion = single.map(len(structure.torque_nodes))
     else:
