@@ -2,7 +2,9 @@ r"""Pool strikes with the classic profiles: a cubic, quintic or LSPB approach, t
 
 The strike window is the same as :class:`planners.TimeOptimalStrike`'s
 (:func:`planners.strike.strike_line`: the cue tip at the commanded speed along the direction,
-through the contact point, cue axis on the line, turned into joints by IK sample by sample).
+through the contact point, cue axis on the line, turned into joints by IK sample by sample),
+from the problem's contact configuration or, with ``contact="choose"``, from the one
+:class:`planners.OptimalControl` chooses (:func:`planners.strike.contact_configuration`).
 Its first state (q, qd, qdd) is the entry state, its last the exit state. The three phases are
 ``approach``, ``strike`` and ``stop``.
 
@@ -49,7 +51,7 @@ from optraj.errors import InfeasibleError, InvalidInputError
 from optraj.validation import as_count
 from planners.base import stamp
 from planners.lspb import LSPB
-from planners.strike import strike_line
+from planners.strike import check_contact, contact_configuration, strike_line
 from planners.time_scaling import (
     cubic_coefficients,
     polynomial_peaks,
@@ -93,13 +95,19 @@ class ClassicStrike:
     Args:
         profile: ``"cubic"``, ``"quintic"`` or ``"lspb"`` (see the module docstring).
         samples: IK samples along the strike line.
+        contact: ``"problem"`` (the problem's contact configuration) or ``"choose"``
+            (:func:`planners.strike.contact_configuration`).
 
     Raises:
         InvalidInputError: An unknown profile (lists the valid ones) or fewer than 4 samples.
+        UnknownNameError: An unknown ``contact``.
     """
 
     def __init__(
-        self, profile: Literal["cubic", "quintic", "lspb"] = "cubic", samples: int = 60
+        self,
+        profile: Literal["cubic", "quintic", "lspb"] = "cubic",
+        samples: int = 60,
+        contact: Literal["problem", "choose"] = "problem",
     ) -> None:
         if profile not in PROFILES:
             raise InvalidInputError(
@@ -109,9 +117,13 @@ class ClassicStrike:
             )
         self.profile: Literal["cubic", "quintic", "lspb"] = profile
         self.samples = as_count(samples, "samples", 4)
+        self.contact = check_contact(contact)
 
     def __repr__(self) -> str:
-        return f"ClassicStrike(profile={self.profile!r}, samples={self.samples})"
+        return (
+            f"ClassicStrike(profile={self.profile!r}, samples={self.samples}, "
+            f"contact={self.contact!r})"
+        )
 
     @property
     def name(self) -> str:
@@ -126,15 +138,17 @@ class ClassicStrike:
 
         Returns:
             The trajectory; metadata holds ``planner``, ``solve_time`` [s], ``status``,
-            ``profile`` and, for LSPB, ``entry_velocity_jump`` and ``exit_velocity_jump``
-            (largest joint velocity step [rad/s or m/s]).
+            ``profile``, ``contact_configuration`` (and with ``contact="choose"``
+            ``contact_speed_ratio``) and, for LSPB, ``entry_velocity_jump`` and
+            ``exit_velocity_jump`` (largest joint velocity step [rad/s or m/s]).
 
         Raises:
             InvalidInputError: The problem is not a PoolStrike.
             InfeasibleError: The strike line itself breaks a velocity or acceleration (quintic:
                 or jerk) limit, no approach or stop of this profile keeps within the limits,
                 or the stop runs past a position limit; names the limit, the joint, the
-                required and the allowed value.
+                required and the allowed value. With ``contact="choose"``, also when no
+                contact configuration can make the strike.
             UnreachableError: A pose on the strike line cannot be reached.
         """
         if not isinstance(problem, PoolStrike):
@@ -144,11 +158,12 @@ class ClassicStrike:
             )
         started = time.perf_counter()
         limits = problem.limits
-        line = strike_line(problem, self.samples)
+        q_contact, contact = contact_configuration(problem, self.contact)
+        line = strike_line(problem, self.samples, q_contact=q_contact)
         _check_line(line, limits, _LIMITED[self.profile], float(problem.speed))
         entry = line.sample(0.0)
         exit_state = line.sample(line.duration)
-        extra: dict[str, object] = {"profile": self.profile}
+        extra: dict[str, object] = {"profile": self.profile, **contact}
         if self.profile == "lspb":
             approach = LSPB().move(problem.q_start, entry.q, limits)
             brake = Trajectory.constant(exit_state.q, HOLD_TIME)

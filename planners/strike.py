@@ -5,7 +5,11 @@ the direction, through the contact point, cue axis on the line) is turned into j
 sample by sample; its first state (position, velocity, acceleration) is the entry state. The
 approach reaches that state from rest, with Ruckig (state to state, interpolating in joints)
 or with TOPPRA (a joint path ending along the entry velocity, entered at its path speed);
-after the line, Ruckig stops the arm as fast as its limits allow.
+after the line, Ruckig stops the arm as fast as its limits allow. The line starts from the
+problem's own contact configuration (``problem.q_contact``, the IK solution nearest the
+start), or with ``contact="choose"`` from :func:`planners.contact.choose_contact`'s (the IK
+branch with room for the strike speed that the arm reaches soonest, as
+:class:`planners.OptimalControl` uses), so that profiles can be compared on one branch.
 
 For a :class:`problems.PaddleStrike`: the approach reaches the contact configuration with the
 joint velocity that moves the paddle's ball point at the commanded speed along its normal, at
@@ -21,19 +25,62 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from optraj.errors import InfeasibleError, InvalidInputError
+from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError
 from optraj.validation import as_count
 from planners.base import stamp
 from planners.cartesian import follow_tool_path, paddle_contact_velocity
+from planners.contact import choose_contact
 from planners.ruckig_planner import state_to_state, stop
 from planners.toppra_planner import Toppra
 from planners.trajectory import Trajectory
 from problems import PaddleStrike, PoolStrike
 from robots import JointLimits, Robot, solve_ik
 
-__all__ = ["TimeOptimalStrike", "strike_line"]
+__all__ = ["CONTACTS", "TimeOptimalStrike", "check_contact", "contact_configuration", "strike_line"]
 
 FloatArray = NDArray[np.float64]
+
+#: Where a pool strike's contact configuration comes from (:func:`contact_configuration`).
+CONTACTS: tuple[str, ...] = ("problem", "choose")
+
+
+def check_contact(contact: str) -> str:
+    """``contact`` if it is one of :data:`CONTACTS`.
+
+    Raises:
+        UnknownNameError: Another name (lists the known ones).
+    """
+    if contact not in CONTACTS:
+        raise UnknownNameError("contact", str(contact), CONTACTS)
+    return contact
+
+
+def contact_configuration(
+    problem: PoolStrike, contact: str = "problem"
+) -> tuple[FloatArray, dict[str, object]]:
+    """The contact configuration a pool strike's line starts from, and metadata about it.
+
+    Args:
+        problem: The pool strike.
+        contact: ``"problem"``: ``problem.q_contact`` (the IK solution nearest the start);
+            ``"choose"``: :func:`planners.contact.choose_contact`'s choice.
+
+    Returns:
+        The configuration [rad], shape (n,), and the metadata entries
+        ``contact_configuration`` and, for ``"choose"``, ``contact_speed_ratio`` (the
+        largest joint velocity over its limit that the strike needs there [-]).
+
+    Raises:
+        UnknownNameError: An unknown ``contact``.
+        InfeasibleError: ``"choose"``: no configuration can make the strike (names the
+            binding joint and the fastest reachable speed).
+    """
+    if check_contact(contact) == "problem":
+        q = np.asarray(problem.q_contact, dtype=float)
+        return q, {"contact_configuration": q.copy()}
+    choice = choose_contact(problem)
+    q = np.asarray(choice.q, dtype=float)
+    return q, {"contact_configuration": q.copy(), "contact_speed_ratio": choice.ratio}
 
 
 class TimeOptimalStrike:
@@ -42,15 +89,24 @@ class TimeOptimalStrike:
     Args:
         approach: ``"ruckig"`` or ``"toppra"``.
         samples: IK samples along the strike line.
+        contact: Pool strikes: ``"problem"`` (the problem's contact configuration) or
+            ``"choose"`` (:func:`contact_configuration`). A paddle strike's contact
+            configuration is always the problem's (closed-form IK).
     """
 
-    def __init__(self, approach: Literal["ruckig", "toppra"] = "ruckig", samples: int = 60) -> None:
+    def __init__(
+        self,
+        approach: Literal["ruckig", "toppra"] = "ruckig",
+        samples: int = 60,
+        contact: Literal["problem", "choose"] = "problem",
+    ) -> None:
         if approach not in ("ruckig", "toppra"):
             raise InvalidInputError(
                 f"approach must be 'ruckig' or 'toppra', got {approach!r}", name="approach"
             )
         self.approach = approach
         self.samples = as_count(samples, "samples", 4)
+        self.contact = check_contact(contact)
 
     @property
     def name(self) -> str:
@@ -61,8 +117,9 @@ class TimeOptimalStrike:
         """Approach, strike, stop; phases ``approach``, ``strike`` (pool) and ``stop``.
 
         Raises:
-            InfeasibleError: The entry state cannot be reached, or the contact time is too
-                short for the fastest approach.
+            InfeasibleError: The entry state cannot be reached, the contact time is too
+                short for the fastest approach, or (``contact="choose"``) no contact
+                configuration can make the strike.
             UnreachableError: A pose on the strike line cannot be reached.
         """
         started = time.perf_counter()
@@ -80,13 +137,10 @@ class TimeOptimalStrike:
 
     # ------------------------------------------------------------------------------ pool
 
-    def _line(self, problem: PoolStrike) -> Trajectory:
-        """The strike window in joints, from the problem's own contact configuration."""
-        return strike_line(problem, self.samples)
-
     def _pool(self, problem: PoolStrike) -> tuple[Trajectory, dict[str, object]]:
         limits = problem.limits
-        line = self._line(problem)
+        q_contact, extra = contact_configuration(problem, self.contact)
+        line = strike_line(problem, self.samples, q_contact=q_contact)
         entry = line.sample(0.0)
         exit_state = line.sample(line.duration)
         zeros = np.zeros(limits.n)
@@ -103,7 +157,7 @@ class TimeOptimalStrike:
             [("approach", [approach]), ("strike", [line]), ("stop", [brake])],
             joint_names=limits.names,
         )
-        return traj, {"approach_line_gap": _approach_gap(problem, approach)}
+        return traj, {"approach_line_gap": _approach_gap(problem, approach), **extra}
 
     def _toppra_approach(
         self,

@@ -6,8 +6,10 @@ import numpy as np
 import pytest
 
 import problems
-from optraj.errors import InfeasibleError, InvalidInputError
+from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError
 from planners.checker import check
+from planners.classic_strike import ClassicStrike
+from planners.contact import choose_contact
 from planners.strike import TimeOptimalStrike
 
 ALL = ("position", "velocity", "acceleration", "jerk", "torque")
@@ -76,8 +78,32 @@ def test_contact_time_too_short_is_infeasible():
         TimeOptimalStrike("ruckig").plan(problem)
 
 
+def test_the_chosen_contact_plans_shots_the_nearest_branch_cannot():
+    # Shots 2 and 3 of the 1 m/s draw: from the IK solution nearest the start the line needs
+    # more than a joint's velocity or acceleration limit; choose_contact's branch has room.
+    shots = list(_shots(3, speed=1.0))[1:]
+    for problem in shots:
+        with pytest.raises(InfeasibleError):
+            TimeOptimalStrike("ruckig").plan(problem)
+        chosen = choose_contact(problem).q
+        traj = TimeOptimalStrike("ruckig", contact="choose").plan(problem)
+        report = check(traj, problem, quantities=ALL)
+        assert report.ok, report.summary()
+        assert np.allclose(traj.metadata["contact_configuration"], chosen)
+        assert 0.0 < traj.metadata["contact_speed_ratio"] <= 1.0
+        # The cubic profile from the same branch: within the velocity and acceleration
+        # limits (its jerk jumps at the entry), on the line.
+        cubic = ClassicStrike("cubic", contact="choose").plan(problem)
+        report = check(cubic, problem, quantities=("position", "velocity", "acceleration"))
+        assert report.ok, report.summary()
+        assert np.allclose(cubic.metadata["contact_configuration"], chosen)
+
+
 def test_bad_arguments():
     with pytest.raises(InvalidInputError, match="approach must be"):
         TimeOptimalStrike("rrt")  # type: ignore[arg-type]
+    for make in (TimeOptimalStrike, ClassicStrike):
+        with pytest.raises(UnknownNameError, match="unknown contact 'nearest'"):
+            make(contact="nearest")  # type: ignore[arg-type]
     with pytest.raises(InvalidInputError, match="PoolStrike or a PaddleStrike"):
         TimeOptimalStrike().plan(problems.youbot_two_blocks())
