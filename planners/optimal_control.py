@@ -54,7 +54,13 @@ Torque limits
     with RNEA rows the margin of every row widens when rows everywhere are not enough.
 
 Verification
-    Limits on velocity, acceleration, jerk and position hold between nodes by construction.
+    Limits on velocity, acceleration and jerk hold between nodes by construction. Positions
+    are bounded at the nodes, and by default (``position_rows="auto"``) checked exactly
+    between them after a solve (the extremes of each interval's cubic); only when one breaks
+    a limit is the NLP solved again with the rows that bound them between nodes too (the
+    Bernstein rows of :mod:`planners.transcription`, a third of all rows, which cost about a
+    third of a solve's time when they are always there). ``position_rows=True`` has them
+    from the first solve.
     The strike line is verified between nodes (quarter points of each interval); where the
     cue tip leaves its tolerance the strike phase gets twice the intervals and the NLP is
     solved again. Judge the result with :func:`planners.check`, as for every planner.
@@ -103,6 +109,7 @@ from optraj.errors import (
 )
 from optraj.validation import as_count, as_positive
 from planners.base import stamp
+from planners.checker import RELATIVE_SLACK
 from planners.contact import ContactChoice, choose_contact, contact_choices, contact_near
 from planners.ruckig_planner import state_to_state, stop
 from planners.strike import strike_line
@@ -322,6 +329,8 @@ class OptimalControl:
         max_interval: Longest interval a free phase may stretch to [s].
         margin: Fraction of the velocity, acceleration and jerk limits kept free [-].
         torque: ``"auto"``, True or False (see the module docstring).
+        position_rows: ``"auto"`` or True: when the rows that bound positions between nodes
+            come in (see the module docstring).
         torque_margin: Fraction of the torque limits kept free at torque rows [-].
         torque_rows: ``"linear"`` or ``"rnea"`` (see the module docstring).
         regularization: Weight of the small jerk (and posture) terms [-].
@@ -358,6 +367,7 @@ class OptimalControl:
         margin: float = 1e-4,
         torque: bool | str = "auto",
         torque_margin: float = 0.01,
+        position_rows: bool | str = "auto",
         torque_rows: str = "linear",
         regularization: float = 1e-2,
         stretch: float = 1.2,
@@ -390,6 +400,12 @@ class OptimalControl:
                 f"torque must be 'auto', True or False, got {torque!r}", name="torque"
             )
         self.torque = torque
+        if position_rows not in ("auto", True):
+            raise InvalidInputError(
+                f"position_rows must be 'auto' or True, got {position_rows!r}",
+                name="position_rows",
+            )
+        self.position_rows = position_rows
         if torque_rows not in TORQUE_ROWS:
             raise UnknownNameError("torque rows", torque_rows, TORQUE_ROWS)
         self.torque_rows = torque_rows
@@ -536,7 +552,9 @@ class OptimalControl:
         """The NLP of a problem with its bounds and initial guess, not yet solved.
 
         With an objective that has no time term, free durations stay free here (the
-        two-step solve of :meth:`plan` fixes them).
+        two-step solve of :meth:`plan` fixes them). With ``position_rows="auto"`` the NLP is
+        the first round's: positions bounded at the nodes only (:meth:`plan` checks them
+        between nodes and solves again with the rows when one passes its limit).
         """
         spec = self._spec(problem)
         return self._build(problem, spec, self._weights(spec), (), None, warm_start)
@@ -573,12 +591,14 @@ class OptimalControl:
         warm_start: Trajectory | None,
     ) -> Trajectory:
         torque_nodes: tuple[int, ...] = ()
+        position_rows = self.position_rows is True
         strike_scale = 1
         saved = None if warm_start is None else warm_start.metadata.get("warm_start")
         if isinstance(saved, WarmStart) and len(saved.structure.intervals) == len(spec.names):
             # Same grid and torque rows as the previous solution, so its duals apply too.
             spec.intervals = saved.structure.intervals
             torque_nodes = saved.structure.torque_nodes
+            position_rows = position_rows or saved.structure.position_rows
         torque_margin = self.torque_margin
         row_margins: FloatArray | None = None  # linear rows: per node and joint
         expansions = 0  # rounds in a row solved with linear rows
@@ -592,15 +612,19 @@ class OptimalControl:
                 warm_start,
                 torque_margin,
                 row_margins,
+                position_rows,
             )
             traj = self._solve(built)
             ratios = self._torque_ratios(traj, spec)
             more = [] if self.torque is False else self._torque_nodes(traj, ratios, built)
             strike_ok = self._strike_ok(traj, problem, spec)
-            if not more and strike_ok:
+            positions_ok = position_rows or _positions_hold(traj, spec.limits)
+            if not more and strike_ok and positions_ok:
                 traj.metadata["rounds"] = round_
                 traj.metadata["torque_rows"] = len(built.compiled.structure.torque_nodes)
+                traj.metadata["position_rows"] = position_rows
                 return traj
+            position_rows = True  # kept once on: it changes no other round's reason
             if not strike_ok:  # a finer strike grid renumbers the nodes
                 strike_scale *= 2
                 torque_nodes, row_margins, expansions = (), None, 0
@@ -775,6 +799,7 @@ class OptimalControl:
         warm_start: Trajectory | None,
         torque_margin: float | None = None,
         row_margins: FloatArray | None = None,
+        position_rows: bool | None = None,
     ) -> OptimalControlProblem:
         grids = self._grids(spec, strike_scale or 1)
         intervals = tuple(g.intervals for g in grids)
@@ -793,6 +818,7 @@ class OptimalControl:
             free_grid=self.free_grid,
             strike_phase=spec.strike_phase,
             contact_node=int(first[spec.contact_phase + 1]) if spec.contact_phase >= 0 else -1,
+            position_rows=self.position_rows is True if position_rows is None else position_rows,
             torque_nodes=tuple(n for n in torque_nodes if n < nodes),
             torque_rows=self.torque_rows,
             weights=tuple(sorted(weights.items())),
@@ -1047,6 +1073,33 @@ def _constraint_duals(saved: WarmStart, compiled: CompiledNLP) -> FloatArray | N
     return lam_g
 
 
+def _positions_hold(traj: Trajectory, limits: JointLimits) -> bool:
+    """Whether every cubic piece stays within the position limits between its ends.
+
+    Exact: each piece's extremes are at its ends or where its velocity vanishes inside it.
+    A limit may be passed by the checker's slack (:data:`planners.checker.RELATIVE_SLACK`).
+    """
+    c = traj.coefficients  # (K, 4, n): q0, qd0, qdd0 / 2, jerk / 6
+    h = np.diff(traj.breakpoints)[:, None]
+    a, b, lin = 3.0 * c[:, 3], 2.0 * c[:, 2], c[:, 1]  # velocity a t^2 + b t + lin
+    with np.errstate(divide="ignore", invalid="ignore"):
+        root = np.sqrt(np.maximum(b * b - 4.0 * a * lin, 0.0))
+        quadratic = np.abs(a) > 1e-300
+        times = np.stack(
+            [
+                np.where(quadratic, (-b + root) / (2.0 * a), -lin / b),
+                np.where(quadratic, (-b - root) / (2.0 * a), -lin / b),
+            ]
+        )
+    inside = np.isfinite(times) & (times > 0.0) & (times < h) & (b * b >= 4.0 * a * lin)
+    t = np.where(inside, times, 0.0)
+    q = c[:, 0] + t * (c[:, 1] + t * (c[:, 2] + t * c[:, 3]))
+    slack = RELATIVE_SLACK * np.maximum(np.abs(limits.lower), np.abs(limits.upper))
+    low = np.where(inside, q - limits.lower, np.inf)
+    high = np.where(inside, limits.upper - q, np.inf)
+    return bool(np.all(low >= -slack) and np.all(high >= -slack))
+
+
 def _dense_times(traj: Trajectory, per_interval: int) -> FloatArray:
     knots = traj.breakpoints
     fractions = np.linspace(0.0, 1.0, per_interval + 1)[:-1]
@@ -1220,7 +1273,7 @@ def _contact_from(problem: PoolStrike, warm_start: Trajectory | None) -> Contact
 def _pool(problem: PoolStrike, choice: ContactChoice) -> _Spec:
     limits = problem.limits
     n = limits.n
-    line = strike_line(problem, 30, q_contact=choice.q)
+    line = strike_line(problem, 10, q_contact=choice.q)
     entry = line.sample(0.0)
     leave = line.sample(line.duration)
     approach = _guess_move(

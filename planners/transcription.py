@@ -22,14 +22,16 @@ seconds.
 Limits hold everywhere, not only at the nodes: acceleration is linear and jerk constant on
 an interval, so node bounds suffice for them; velocity (quadratic) and position (cubic) are
 bounded by the Bernstein coefficients of their polynomials on each interval, which bound the
-polynomial from both sides (convex-hull property). Torques are constrained at chosen nodes
-only; the planner verifies them between nodes. Their rows are either the symbolic RNEA
-itself (``torque_rows="rnea"``) or its first-order expansion about given node states
-(``"linear"``): rows linear in the node state whose coefficients are NLP parameters
-(:func:`torque_linearization`), so they add nothing to the Hessian and one compiled NLP
-serves every expansion point. The planner expands again about each solution until the
-dense torques hold; at a fixed point the rows equal the RNEA rows to first order, so the
-solution satisfies the same optimality conditions.
+polynomial from both sides (convex-hull property). The position rows (two per interval and
+joint, a third of all rows) can be left out (``position_rows=False``): positions are then
+bounded at the nodes only, and the planner checks them between nodes. Torques are
+constrained at chosen nodes only; the planner verifies them between nodes. Their rows are
+either the symbolic RNEA itself (``torque_rows="rnea"``) or its first-order expansion about
+given node states (``"linear"``): rows linear in the node state whose coefficients are NLP
+parameters (:func:`torque_linearization`), so they add nothing to the Hessian and one
+compiled NLP serves every expansion point. The planner expands again about each solution
+until the dense torques hold; at a fixed point the rows equal the RNEA rows to first order,
+so the solution satisfies the same optimality conditions.
 
 Task rows:
 
@@ -118,6 +120,8 @@ class Structure:
         free: Per phase, whether its duration is a decision (else fixed by bounds).
         strike_phase: Index of the strike phase, or -1.
         contact_node: Node of the contact velocity rows, or -1.
+        position_rows: Whether positions are bounded between nodes (Bernstein rows) or at
+            the nodes only.
         torque_nodes: Nodes with torque rows.
         torque_rows: ``"rnea"`` (the symbolic inverse dynamics) or ``"linear"`` (its
             expansion, coefficients as parameters after :data:`PARAMETERS`).
@@ -137,6 +141,7 @@ class Structure:
     free_grid: bool = True
     strike_phase: int = -1
     contact_node: int = -1
+    position_rows: bool = True
     torque_nodes: tuple[int, ...] = ()
     torque_rows: str = "rnea"
     weights: tuple[tuple[str, float], ...] = (("time", 1.0),)
@@ -399,12 +404,13 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
             0.0,
         )
         rows.add("velocity between nodes", (v0 + hk / 2 * a0) / vel, -keep, keep)
-        rows.add(
-            "position between nodes",
-            ca.vertcat((q0 + hk / 3 * v0 - mid) / half, (q1 - hk / 3 * v1 - mid) / half),
-            -1.0,
-            1.0,
-        )
+        if structure.position_rows:
+            rows.add(
+                "position between nodes",
+                ca.vertcat((q0 + hk / 3 * v0 - mid) / half, (q1 - hk / 3 * v1 - mid) / half),
+                -1.0,
+                1.0,
+            )
         if weights.get("jerk", 0.0):
             cost += weights["jerk"] * hk * ca.sumsqr(zu) / (n * time_scale)
         if weights.get("posture", 0.0):

@@ -19,7 +19,13 @@ from optraj.errors import (
     UnknownNameError,
 )
 from planners import Quintic, Trajectory, check, lower_bound
-from planners.optimal_control import OptimalControl, WarmStart, _constraint_duals, _tightened
+from planners.optimal_control import (
+    OptimalControl,
+    WarmStart,
+    _constraint_duals,
+    _positions_hold,
+    _tightened,
+)
 from planners.transcription import compile_nlp
 from robots import SymbolicModel
 
@@ -179,6 +185,48 @@ def test_waypoints_are_passed_through():
     report = check(traj, problem)
     assert report.ok, report.summary()
     assert [p.name for p in traj.phases] == ["segment 1", "segment 2", "segment 3"]
+
+
+def test_positions_between_nodes_get_rows_when_a_solve_passes_a_limit():
+    # A via point with a joint at its upper limit: bounded at the nodes only, the fastest
+    # motion passes the via node still moving and leaves the range just after it.
+    robot = get_robot("paddle4")
+    limits = robot.limits
+    middle = 0.5 * (limits.lower + limits.upper)
+    via, end = middle.copy(), middle.copy()
+    via[0] = limits.upper[0]
+    end[1] = 0.5 * (middle[1] + limits.lower[1])
+    problem = problems.Waypoints(robot, np.array([middle, via, end]))
+    planner = OptimalControl("time")
+    first = planner.solve(planner.build(problem))  # the first round: no position rows
+    assert not check(first, problem, quantities=("position",))["position"].ok
+    assert not _positions_hold(first, limits)
+    traj = planner.plan(problem)
+    assert traj.metadata["position_rows"] and traj.metadata["rounds"] == 2
+    report = check(traj, problem, quantities=("position", "velocity", "acceleration", "jerk"))
+    assert report.ok, report.summary()
+    always = OptimalControl("time", position_rows=True).plan(problem)
+    assert always.metadata["rounds"] == 1
+    assert always.duration == pytest.approx(traj.duration, rel=1e-3)
+
+
+def test_positions_hold_finds_the_extremes_between_the_knots():
+    rng = np.random.default_rng(11)
+    limits = get_robot("paddle4").limits
+    middle = 0.5 * (limits.lower + limits.upper)
+    half = 0.5 * (limits.upper - limits.lower)
+    knots = np.concatenate([[0.0], np.cumsum(rng.uniform(0.05, 0.3, 3))])
+    outcomes = []
+    for _ in range(60):
+        # Three cubic pieces through random points inside the range at random velocities.
+        points = middle + half * rng.uniform(-0.98, 0.98, (4, limits.n))
+        slopes = rng.uniform(-1.0, 1.0, (4, limits.n)) * 2.0 * half / 0.1
+        traj = Trajectory.from_hermite(knots, points, slopes)
+        dense = traj.sample(np.linspace(0.0, knots[-1], 20001)).q
+        inside = bool(np.all(dense >= limits.lower) and np.all(dense <= limits.upper))
+        assert _positions_hold(traj, limits) == inside
+        outcomes.append(inside)
+    assert 10 <= sum(outcomes) <= 50  # both verdicts are exercised
 
 
 @pytest.mark.parametrize("rows", ["linear", "rnea"])
@@ -410,6 +458,7 @@ def test_solvers_by_name():
         ({"margin": 0.7}, "margin"),
         ({"torque": "sometimes"}, "torque"),
         ({"torque_rows": "exact"}, "torque rows"),
+        ({"position_rows": False}, "position_rows"),
         ({"stretch": 0.5}, "stretch"),
         ({"intervals": 0}, "intervals"),
         ({"step": -0.1}, "step"),
