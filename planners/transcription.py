@@ -241,7 +241,7 @@ class CompiledNLP:
                 options["ipopt.warm_start_init_point"] = "yes"
                 options["ipopt.warm_start_bound_push"] = 1e-9
                 options["ipopt.warm_start_mult_bound_push"] = 1e-9
-                options["ipopt.mu_init"] = 1e-6
+                options["ipopt.mu_init"] = 1e-7
             self.warm_solver = _nlpsol(self, options)
         return self.warm_solver
 

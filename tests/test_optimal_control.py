@@ -364,6 +364,10 @@ def test_warm_start_from_a_previous_solution_and_from_another_planner():
     assert check(warm, second).ok
     assert warm.metadata["warm_started"] is True
     assert warm.metadata["iterations"] <= cold.metadata["iterations"]
+    # The multipliers fit the previous solve's objective: its time scale is kept.
+    kept = warm.metadata["warm_start"].time_scale
+    assert kept == previous.metadata["warm_start"].time_scale
+    assert kept != cold.metadata["warm_start"].time_scale
     # The previous contact branch still has room: no contact search this time.
     assert warm.metadata["contact_from_warm_start"] is True
     assert cold.metadata["contact_from_warm_start"] is False
