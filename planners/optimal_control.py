@@ -336,7 +336,11 @@ class OptimalControl:
         torque: ``"auto"``, True or False (see the module docstring).
         position_rows: ``"auto"`` or True: when the rows that bound positions between nodes
             come in (see the module docstring).
-        torque_margin: Fraction of the torque limits kept free at torque rows [-].
+        torque_margin: Fraction of the torque limits kept free at torque rows [-]; rounds
+            go on while a torque passes ``1 - torque_margin / 2`` of its limit. The default
+            (0.03) leaves room for the linear rows' expansion error and for peaks between
+            nodes: on the strike benchmark's binding-torque shots it plans in about 0.8 of
+            the rounds' time of 0.01, for motions about 0.3 % longer.
         torque_rows: ``"linear"`` or ``"rnea"`` (see the module docstring).
         regularization: Weight of the small jerk (and posture) terms [-].
         stretch: Factor on the minimum durations when the objective has no time term [-].
@@ -371,7 +375,7 @@ class OptimalControl:
         max_interval: float = 0.1,
         margin: float = 1e-4,
         torque: bool | str = "auto",
-        torque_margin: float = 0.01,
+        torque_margin: float = 0.03,
         position_rows: bool | str = "auto",
         torque_rows: str = "linear",
         regularization: float = 1e-2,
@@ -629,7 +633,8 @@ class OptimalControl:
                 traj.metadata["torque_rows"] = len(built.compiled.structure.torque_nodes)
                 traj.metadata["position_rows"] = position_rows
                 return traj
-            position_rows = True  # kept once on: it changes no other round's reason
+            if not positions_ok:  # rows from now on (a piece passed a limit between nodes)
+                position_rows = True
             if not strike_ok:  # a finer strike grid renumbers the nodes
                 strike_scale *= 2
                 torque_nodes, row_margins, expansions = (), None, 0
@@ -902,6 +907,15 @@ class OptimalControl:
             saved = warm_start.metadata.get("warm_start")
             if isinstance(saved, WarmStart):
                 lam_g = _constraint_duals(saved, compiled)
+                if (
+                    lam_g is not None
+                    and compiled.structure.torque_nodes
+                    and not (saved.structure.torque_nodes)
+                ):
+                    # The first torque rows, which the last solution breaks: a solve from
+                    # its primal values with a fresh barrier takes fewer iterations than one
+                    # from its multipliers at the warm start's small barrier.
+                    return np.clip(saved.w, lbx, ubx), None, None
                 if lam_g is not None:
                     return np.clip(saved.w, lbx, ubx), saved.lam_x, lam_g
         source = spec.guess
