@@ -56,11 +56,13 @@ Torque limits
 Verification
     Limits on velocity, acceleration and jerk hold between nodes by construction. Positions
     are bounded at the nodes, and by default (``position_rows="auto"``) checked exactly
-    between them after a solve (the extremes of each interval's cubic); only when one breaks
-    a limit is the NLP solved again with the rows that bound them between nodes too (the
-    Bernstein rows of :mod:`planners.transcription`, a third of all rows, which cost about a
-    third of a solve's time when they are always there). ``position_rows=True`` has them
-    from the first solve.
+    between them after a solve (the extremes of each interval's cubic). Where a piece passes
+    a limit, the bounds of its two nodes on that side move in by the excess and the same NLP
+    is solved again, warm (up to :data:`POSITION_SHRINKS` times); only if that does not
+    settle is it solved with the rows that bound positions between nodes too (the Bernstein
+    rows of :mod:`planners.transcription`, a third of all rows, which cost about a third of
+    a solve's time when they are always there, and a new NLP to build).
+    ``position_rows=True`` has the rows from the first solve.
     The strike line is verified between nodes (quarter points of each interval); where the
     cue tip leaves its tolerance the strike phase gets twice the intervals and the NLP is
     solved again. Judge the result with :func:`planners.check`, as for every planner.
@@ -162,6 +164,12 @@ STRIKE_GRID_WEIGHT = 1.0
 MIN_INTERVAL = 1e-4
 #: Most intervals of a strike phase after refinement.
 MAX_STRIKE_INTERVALS = 120
+#: Rounds that move node position bounds in before position rows come in.
+POSITION_SHRINKS = 3
+#: Extra room a moved node bound keeps beyond the excess it answers [rad or m].
+SHRINK_EXTRA = 1e-6
+#: Largest fraction of a joint's range a node bound moves in [-].
+MAX_SHRINK = 0.25
 
 
 @dataclass(frozen=True)
@@ -601,6 +609,8 @@ class OptimalControl:
     ) -> Trajectory:
         torque_nodes: tuple[int, ...] = ()
         position_rows = self.position_rows is True
+        shrink: FloatArray | None = None  # node bounds moved in, (nodes, 2, n) [rad or m]
+        shrinks = 0
         strike_scale = 1
         saved = None if warm_start is None else warm_start.metadata.get("warm_start")
         if isinstance(saved, WarmStart) and len(saved.structure.intervals) == len(spec.names):
@@ -622,22 +632,29 @@ class OptimalControl:
                 torque_margin,
                 row_margins,
                 position_rows,
+                shrink,
             )
             traj = self._solve(built)
             ratios = self._torque_ratios(traj, spec)
             more = [] if self.torque is False else self._torque_nodes(traj, ratios, built)
             strike_ok = self._strike_ok(traj, problem, spec)
-            positions_ok = position_rows or _positions_hold(traj, spec.limits)
+            excess = None if position_rows else _position_excess(traj, spec.limits)
+            positions_ok = excess is None or not excess.any()
             if not more and strike_ok and positions_ok:
                 traj.metadata["rounds"] = round_
                 traj.metadata["torque_rows"] = len(built.compiled.structure.torque_nodes)
                 traj.metadata["position_rows"] = position_rows
                 return traj
-            if not positions_ok:  # rows from now on (a piece passed a limit between nodes)
-                position_rows = True
+            if not positions_ok and shrinks < POSITION_SHRINKS:
+                # A piece passed a limit between nodes: its nodes' bounds move in, warm.
+                shrink = _shrunk(shrink, excess, spec.limits)
+                shrinks += 1
+            elif not positions_ok:  # it does not settle: rows from now on
+                position_rows, shrink = True, None
             if not strike_ok:  # a finer strike grid renumbers the nodes
                 strike_scale *= 2
                 torque_nodes, row_margins, expansions = (), None, 0
+                shrink, shrinks = None, 0
             elif more and ratios is not None:
                 rows = built.compiled.structure.torque_nodes
                 if self.torque_rows == "linear":
@@ -810,6 +827,7 @@ class OptimalControl:
         torque_margin: float | None = None,
         row_margins: FloatArray | None = None,
         position_rows: bool | None = None,
+        shrink: FloatArray | None = None,
     ) -> OptimalControlProblem:
         grids = self._grids(spec, strike_scale or 1)
         intervals = tuple(g.intervals for g in grids)
@@ -855,6 +873,12 @@ class OptimalControl:
         ubx[layout.x_start : layout.u_start] = np.tile(-x_lower, layout.nodes)
         lbx[layout.u_start :] = -keep
         ubx[layout.u_start :] = keep
+        if shrink is not None:  # node position bounds moved in (fixed states override them)
+            n = spec.limits.n
+            starts = layout.x_start + 3 * n * np.arange(layout.nodes)
+            index = (starts[:, None] + np.arange(n)[None, :]).reshape(-1)
+            lbx[index] = (-1.0 + shrink[:, 0] / half).reshape(-1)
+            ubx[index] = (1.0 - shrink[:, 1] / half).reshape(-1)
         for fixed in spec.fixed:
             node = int(first[fixed.phase] if fixed.at == "start" else first[fixed.phase + 1])
             for block, value, scale, shift in (
@@ -1097,10 +1121,41 @@ def _constraint_duals(saved: WarmStart, compiled: CompiledNLP) -> FloatArray | N
 
 
 def _positions_hold(traj: Trajectory, limits: JointLimits) -> bool:
-    """Whether every cubic piece stays within the position limits between its ends.
+    """Whether every cubic piece stays within the position limits between its ends."""
+    return not _position_excess(traj, limits).any()
+
+
+def _shrunk(shrink: FloatArray | None, excess: FloatArray, limits: JointLimits) -> FloatArray:
+    """Node bounds moved in after pieces passed a position limit between their nodes.
+
+    Args:
+        shrink: Moves so far, shape (K + 1, 2, n) [rad or m] (lower bound raised, upper
+            lowered), or None.
+        excess: :func:`_position_excess` of the last solution, shape (K, 2, n).
+        limits: The joint limits.
+
+    Returns:
+        Both end nodes of a piece that passed a limit keep twice that excess (plus
+        :data:`SHRINK_EXTRA`) more room on that side (once is seldom enough: the piece
+        moves with its nodes), at most :data:`MAX_SHRINK` of the joint's range.
+    """
+    moved = np.zeros((excess.shape[0] + 1, *excess.shape[1:])) if shrink is None else shrink
+    bump = np.where(excess > 0.0, 2.0 * excess + SHRINK_EXTRA, 0.0)
+    raised = moved.copy()
+    raised[:-1] = np.maximum(raised[:-1], moved[:-1] + bump)
+    raised[1:] = np.maximum(raised[1:], moved[1:] + bump)
+    return np.minimum(raised, MAX_SHRINK * (limits.upper - limits.lower))
+
+
+def _position_excess(traj: Trajectory, limits: JointLimits) -> FloatArray:
+    """How far each cubic piece passes the position limits between its ends [rad or m].
 
     Exact: each piece's extremes are at its ends or where its velocity vanishes inside it.
     A limit may be passed by the checker's slack (:data:`planners.checker.RELATIVE_SLACK`).
+
+    Returns:
+        Shape (K, 2, n): per piece, how far it goes below the lower limit (column 0) and
+        above the upper one (column 1); 0 where it stays within.
     """
     c = traj.coefficients  # (K, 4, n): q0, qd0, qdd0 / 2, jerk / 6
     h = np.diff(traj.breakpoints)[:, None]
@@ -1118,9 +1173,10 @@ def _positions_hold(traj: Trajectory, limits: JointLimits) -> bool:
     t = np.where(inside, times, 0.0)
     q = c[:, 0] + t * (c[:, 1] + t * (c[:, 2] + t * c[:, 3]))
     slack = RELATIVE_SLACK * np.maximum(np.abs(limits.lower), np.abs(limits.upper))
-    low = np.where(inside, q - limits.lower, np.inf)
-    high = np.where(inside, limits.upper - q, np.inf)
-    return bool(np.all(low >= -slack) and np.all(high >= -slack))
+    below = np.where(inside, limits.lower - q, 0.0).max(axis=0)  # (K, n)
+    above = np.where(inside, q - limits.upper, 0.0).max(axis=0)
+    excess = np.stack([below, above], axis=1)
+    return np.where(excess > slack, excess, 0.0)
 
 
 def _dense_times(traj: Trajectory, per_interval: int) -> FloatArray:

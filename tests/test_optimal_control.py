@@ -20,10 +20,13 @@ from optraj.errors import (
 )
 from planners import Quintic, Trajectory, check, lower_bound
 from planners.optimal_control import (
+    POSITION_SHRINKS,
+    SHRINK_EXTRA,
     OptimalControl,
     WarmStart,
     _constraint_duals,
     _positions_hold,
+    _shrunk,
     _tightened,
 )
 from planners.transcription import compile_nlp
@@ -187,9 +190,42 @@ def test_waypoints_are_passed_through():
     assert [p.name for p in traj.phases] == ["segment 1", "segment 2", "segment 3"]
 
 
-def test_positions_between_nodes_get_rows_when_a_solve_passes_a_limit():
+def test_a_strike_that_passes_a_position_limit_between_nodes_is_solved_again_within():
+    # Benchmark shot 95 (seed 7): the first solve takes right_j0 past its lower limit
+    # between two nodes; with their bounds moved in, the warm re-solve stays within.
+    problem = problems.sawyer_pool_shot(
+        1.0,
+        (0.6915635334246808, 0.12726660566584574, -0.05026149557804848),
+        heading_deg=16.598236109553604,
+    )
+    planner = OptimalControl("time")
+    first = planner.solve(planner.build(problem))
+    assert not check(first, problem, quantities=("position",))["position"].ok
+    traj = planner.plan(problem)
+    report = check(traj, problem)
+    assert report.ok, report.summary()
+    assert traj.metadata["rounds"] == 2 and traj.metadata["position_rows"] is False
+    assert traj.duration == pytest.approx(first.duration, rel=0.01)
+
+
+def test_shrunk_moves_both_node_bounds_of_a_piece_in_by_twice_its_excess():
+    limits = get_robot("paddle4").limits
+    excess = np.zeros((2, 2, limits.n))  # 2 pieces; (below lower, above upper) per joint
+    excess[1, 1, 2] = 0.01  # piece 1 passes joint 2's upper limit
+    moved = _shrunk(None, excess, limits)
+    expected = np.zeros((3, 2, limits.n))
+    expected[1:, 1, 2] = 0.02 + SHRINK_EXTRA
+    np.testing.assert_allclose(moved, expected)
+    again = _shrunk(moved, excess, limits)  # still passing: moved in further
+    np.testing.assert_allclose(again[1:, 1, 2], 2 * (0.02 + SHRINK_EXTRA))
+    huge = _shrunk(None, excess * 1e3, limits)  # capped at a quarter of the range
+    np.testing.assert_allclose(huge[1:, 1, 2], 0.25 * (limits.upper[2] - limits.lower[2]))
+
+
+def test_positions_between_nodes_get_rows_when_moving_node_bounds_cannot_help():
     # A via point with a joint at its upper limit: bounded at the nodes only, the fastest
-    # motion passes the via node still moving and leaves the range just after it.
+    # motion passes the via node still moving and leaves the range just after it. The via
+    # node is pinned there, so moving node bounds in cannot settle it: rows come in.
     robot = get_robot("paddle4")
     limits = robot.limits
     middle = 0.5 * (limits.lower + limits.upper)
@@ -202,12 +238,12 @@ def test_positions_between_nodes_get_rows_when_a_solve_passes_a_limit():
     assert not check(first, problem, quantities=("position",))["position"].ok
     assert not _positions_hold(first, limits)
     traj = planner.plan(problem)
-    assert traj.metadata["position_rows"] and traj.metadata["rounds"] == 2
+    assert traj.metadata["position_rows"] and traj.metadata["rounds"] == 2 + POSITION_SHRINKS
     report = check(traj, problem, quantities=("position", "velocity", "acceleration", "jerk"))
     assert report.ok, report.summary()
     always = OptimalControl("time", position_rows=True).plan(problem)
     assert always.metadata["rounds"] == 1
-    assert always.duration == pytest.approx(traj.duration, rel=1e-3)
+    assert always.duration == pytest.approx(traj.duration, rel=5e-3)
 
 
 def test_positions_hold_finds_the_extremes_between_the_knots():
