@@ -81,6 +81,13 @@ Warm starts
     pool solution's contact configuration (``traj.metadata["contact_configuration"]``) is
     tried first for the new strike, one local IK away, before any contact search.
 
+Solve statistics
+    ``plan`` sums over every solve it made: ``metadata["iterations"]`` and
+    ``metadata["nlp_time"]`` [s] over all rounds (``round_iterations`` lists them, and
+    ``rounds`` counts them); ``warm_started`` tells whether the first solve started from a
+    previous solution's multipliers; ``status``, ``objective`` and ``constraint_violation``
+    are the last solve's.
+
 Example::
 
     problem = problems.sawyer_pool_shot(1.0)
@@ -562,7 +569,8 @@ class OptimalControl:
                 for d, phase in zip(spec.durations, timed.phases, strict=True)
             )
             spec.guess = timed
-            warm_start = None
+            traj = self._rounds(problem, spec, weights, None)
+            return _totals(traj, [timed, traj])
         return self._rounds(problem, spec, weights, warm_start)
 
     def build(self, problem: Any, warm_start: Trajectory | None = None) -> OptimalControlProblem:
@@ -621,6 +629,7 @@ class OptimalControl:
         torque_margin = self.torque_margin
         row_margins: FloatArray | None = None  # linear rows: per node and joint
         expansions = 0  # rounds in a row solved with linear rows
+        solves: list[Trajectory] = []
         for round_ in range(1, ROUNDS + 1):
             built = self._build(
                 problem,
@@ -635,12 +644,14 @@ class OptimalControl:
                 shrink,
             )
             traj = self._solve(built)
+            solves.append(traj)
             ratios = self._torque_ratios(traj, spec)
             more = [] if self.torque is False else self._torque_nodes(traj, ratios, built)
             strike_ok = self._strike_ok(traj, problem, spec)
             excess = None if position_rows else _position_excess(traj, spec.limits)
             positions_ok = excess is None or not excess.any()
             if not more and strike_ok and positions_ok:
+                _totals(traj, solves)
                 traj.metadata["rounds"] = round_
                 traj.metadata["torque_rows"] = len(built.compiled.structure.torque_nodes)
                 traj.metadata["position_rows"] = position_rows
@@ -1123,6 +1134,26 @@ def _constraint_duals(saved: WarmStart, compiled: CompiledNLP) -> FloatArray | N
 def _positions_hold(traj: Trajectory, limits: JointLimits) -> bool:
     """Whether every cubic piece stays within the position limits between its ends."""
     return not _position_excess(traj, limits).any()
+
+
+def _totals(traj: Trajectory, solves: list[Trajectory]) -> Trajectory:
+    """Solve statistics of ``traj`` summed over ``solves`` (its own last among them).
+
+    ``iterations`` and ``nlp_time`` [s] count every solve a plan made; ``warm_started``
+    tells whether the first started from multipliers; ``round_iterations`` lists them.
+    """
+    rounds: list[int] = []
+    for t in solves[:-1]:
+        rounds += t.metadata.get("round_iterations", [int(t.metadata["iterations"])])
+    last = traj.metadata
+    rounds += last.get("round_iterations", [int(last["iterations"])])
+    last["round_iterations"] = rounds
+    last["iterations"] = sum(rounds)
+    last["nlp_time"] = sum(float(t.metadata["nlp_time"]) for t in solves[:-1]) + float(
+        last["nlp_time"]
+    )
+    last["warm_started"] = bool(solves[0].metadata["warm_started"])
+    return traj
 
 
 def _shrunk(shrink: FloatArray | None, excess: FloatArray, limits: JointLimits) -> FloatArray:

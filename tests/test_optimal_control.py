@@ -206,6 +206,11 @@ def test_a_strike_that_passes_a_position_limit_between_nodes_is_solved_again_wit
     assert report.ok, report.summary()
     assert traj.metadata["rounds"] == 2 and traj.metadata["position_rows"] is False
     assert traj.duration == pytest.approx(first.duration, rel=0.01)
+    # The statistics count both solves: the first one's iterations, then the re-solve's.
+    rounds = traj.metadata["round_iterations"]
+    assert len(rounds) == 2 and rounds[0] == first.metadata["iterations"]
+    assert traj.metadata["iterations"] == sum(rounds)
+    assert traj.metadata["warm_started"] is False  # the first solve was cold
 
 
 def test_shrunk_moves_both_node_bounds_of_a_piece_in_by_twice_its_excess():
