@@ -98,6 +98,7 @@ Example::
 from __future__ import annotations
 
 import dataclasses
+import re
 import threading
 import time
 from collections.abc import Mapping
@@ -129,6 +130,7 @@ from planners.transcription import (
     CompiledNLP,
     Structure,
     compile_nlp,
+    freeze_options,
     parameter_vector,
     structure_limits,
     torque_linearization,
@@ -151,8 +153,14 @@ FloatArray = NDArray[np.float64]
 
 #: Objective terms that can be weighted.
 OBJECTIVES = ("time", "jerk", "effort")
-#: CasADi NLP plugins that can be named (the installed CasADi decides which load).
-SOLVERS = ("ipopt", "fatrop", "sqpmethod", "blocksqp", "bonmin", "knitro", "snopt", "worhp")
+#: CasADi NLP plugins that can be named (the installed CasADi decides which load). Left
+#: out, as measured with CasADi 3.8.2: fatrop (the transcription is not in its stage-wise
+#: layout: three times slower than IPOPT on a paddle4 move, and on the pool strike NLP it
+#: hangs inside its first iterations) and blocksqp (it needs HSL's MA27, which CasADi's
+#: wheels do not ship).
+#: sqpmethod (qpOASES) plans small problems (a paddle4 move in 0.8 s, IPOPT 0.08 s) but
+#: did not finish a pool strike in 90 s.
+SOLVERS = ("ipopt", "sqpmethod", "bonmin", "knitro", "snopt", "worhp")
 #: Torques above this fraction of their limit get rows at the surrounding nodes [-].
 TORQUE_WATCH = 0.9
 #: Points per interval at which the torques are evaluated after a solve.
@@ -812,8 +820,18 @@ class OptimalControl:
                     "ipopt.mumps_scaling": 0,
                 }
             )
+        elif self.solver == "sqpmethod":
+            options.update(
+                {
+                    "print_header": False,
+                    "print_iteration": False,
+                    "print_status": False,
+                    "max_iter": self.max_iterations,
+                    "qpsol_options": {"printLevel": "none"},
+                }
+            )
         options.update(self.solver_options)
-        return tuple(sorted((k, _hashable(v)) for k, v in options.items()))
+        return freeze_options(options)
 
     def _compile(self, structure: Structure, robot: Robot) -> CompiledNLP:
         with self._lock:
@@ -997,7 +1015,16 @@ class OptimalControl:
         with compiled.lock:
             solver = compiled.warm() if warm else compiled.solver
             started = time.perf_counter()
-            result = solver(**args)
+            try:
+                result = solver(**args)
+            except RuntimeError as error:  # the plugin raised instead of returning a status
+                stats = solver.stats()
+                raise SolverError(
+                    self.solver,
+                    str(stats.get("return_status", "exception")),
+                    iterations=int(stats.get("iter_count", -1)),
+                    detail=_casadi_reason(str(error)),
+                ) from error
             wall = time.perf_counter() - started
             stats = solver.stats()
         w = np.asarray(result["x"]).reshape(-1)
@@ -1060,14 +1087,6 @@ class OptimalControl:
             f"{type(problem).__name__}",
             name="problem",
         )
-
-
-def _hashable(value: Any) -> Any:
-    if isinstance(value, dict):
-        return tuple(sorted((k, _hashable(v)) for k, v in value.items()))
-    if isinstance(value, list):
-        return tuple(_hashable(v) for v in value)
-    return value
 
 
 def _tightened(
@@ -1134,6 +1153,19 @@ def _constraint_duals(saved: WarmStart, compiled: CompiledNLP) -> FloatArray | N
 def _positions_hold(traj: Trajectory, limits: JointLimits) -> bool:
     """Whether every cubic piece stays within the position limits between its ends."""
     return not _position_excess(traj, limits).any()
+
+
+def _casadi_reason(message: str) -> str:
+    """The reason in a CasADi error message, without its call chain and source locations.
+
+    Its first two lines after the ``Error in Function::call ...`` lines.
+    """
+    lines = [
+        re.sub(r"^\S*\.(?:cpp|hpp):\d+:\s*", "", line.strip())
+        for line in message.splitlines()
+        if line.strip() and not line.strip().startswith("Error in Function::call")
+    ]
+    return " ".join(lines[:2]) or message.strip()
 
 
 def _totals(traj: Trajectory, solves: list[Trajectory]) -> Trajectory:

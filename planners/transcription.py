@@ -67,11 +67,14 @@ __all__ = [
     "PARAMETERS",
     "TORQUE_ROWS",
     "CompiledNLP",
+    "FrozenOptions",
     "Layout",
     "Structure",
     "compile_nlp",
+    "freeze_options",
     "parameter_vector",
     "structure_limits",
+    "thaw_options",
     "torque_linearization",
     "torque_parameter_count",
 ]
@@ -246,9 +249,34 @@ class CompiledNLP:
         return self.warm_solver
 
 
+class FrozenOptions(tuple):  # type: ignore[type-arg]
+    """A solver option mapping as sorted ``(key, value)`` pairs, hashable for a Structure."""
+
+    __slots__ = ()
+
+
+def freeze_options(value: Any) -> Any:
+    """``value`` with every mapping a :class:`FrozenOptions` and every list a tuple."""
+    if isinstance(value, dict):
+        return FrozenOptions(sorted((str(k), freeze_options(v)) for k, v in value.items()))
+    if isinstance(value, list):
+        return tuple(freeze_options(v) for v in value)
+    return value
+
+
+def thaw_options(value: Any) -> Any:
+    """The inverse of :func:`freeze_options` (tuples stay tuples; CasADi takes them)."""
+    if isinstance(value, FrozenOptions):
+        return {k: thaw_options(v) for k, v in value}
+    if isinstance(value, tuple):
+        return tuple(thaw_options(v) for v in value)
+    return value
+
+
 def _nlpsol(compiled: CompiledNLP, options: dict[str, Any]) -> ca.Function:
     nlp = {"x": compiled.w, "p": compiled.p, "f": compiled.f, "g": compiled.g}
-    return ca.nlpsol("optraj_ocp", compiled.structure.solver, nlp, options)
+    thawed = {k: thaw_options(v) for k, v in options.items()}
+    return ca.nlpsol("optraj_ocp", compiled.structure.solver, nlp, thawed)
 
 
 class _Rows:

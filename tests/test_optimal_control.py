@@ -6,6 +6,7 @@ import dataclasses
 import pickle
 import time
 
+import casadi as ca
 import numpy as np
 import pytest
 from conftest import get_robot
@@ -494,6 +495,34 @@ def test_solvers_by_name():
         OptimalControl(solver="ipotp")
     with pytest.raises(MissingDependencyError, match="knitro"):
         OptimalControl(solver="knitro")
+    with pytest.raises(UnknownNameError, match="sqpmethod"):  # left out: see SOLVERS
+        OptimalControl(solver="fatrop")
+
+
+def _paddle_move() -> problems.PointToPoint:
+    robot = get_robot("paddle4")
+    lower, upper = robot.limits.lower, robot.limits.upper
+    middle = 0.5 * (lower + upper)
+    return problems.PointToPoint(robot, middle, middle + 0.2 * (upper - lower))
+
+
+def test_a_solver_that_raises_gives_a_solver_error_with_its_reason():
+    # CasADi's error_on_fail turns IPOPT's iteration cap into an exception.
+    planner = OptimalControl("time", solver_options={"error_on_fail": True, "ipopt.max_iter": 2})
+    with pytest.raises(SolverError, match=r"Maximum_Iterations_Exceeded.*nlpsol process") as info:
+        planner.plan(_paddle_move())
+    assert info.value.iterations == 2 and "Function::call" not in str(info.value)
+
+
+@pytest.mark.skipif(not ca.has_nlpsol("sqpmethod"), reason="CasADi without sqpmethod")
+def test_sqpmethod_plans_a_small_move_with_nested_solver_options():
+    problem = _paddle_move()
+    options = {"qpsol_options": {"printLevel": "none", "enableRegularisation": True}}
+    traj = OptimalControl("time", solver="sqpmethod", solver_options=options).plan(problem)
+    report = check(traj, problem)
+    assert report.ok, report.summary()
+    reference = OptimalControl("time").plan(problem)
+    assert traj.duration == pytest.approx(reference.duration, rel=1e-3)
 
 
 @pytest.mark.parametrize(

@@ -10,11 +10,14 @@ from conftest import get_robot
 from optraj.errors import UnknownNameError
 from planners.transcription import (
     PARAMETERS,
+    FrozenOptions,
     Layout,
     Structure,
     compile_nlp,
+    freeze_options,
     parameter_vector,
     structure_limits,
+    thaw_options,
     torque_linearization,
     torque_parameter_count,
 )
@@ -158,3 +161,16 @@ def test_linear_torque_rows_are_the_rnea_to_first_order():
 def test_unknown_torque_rows_are_named():
     with pytest.raises(UnknownNameError, match="rnea"):
         _compiled(torque_nodes=(1,), torque_rows="quadratic")
+
+
+def test_solver_options_frozen_for_a_structure_thaw_back_to_nested_mappings():
+    options = {"ipopt.tol": 1e-6, "qpsol_options": {"b": [1, 2], "a": {"x": "y"}}}
+    frozen = freeze_options(options)
+    assert hash(frozen) == hash(
+        freeze_options({"qpsol_options": {"a": {"x": "y"}, "b": [1, 2]}, "ipopt.tol": 1e-6})
+    )
+    assert isinstance(frozen, FrozenOptions)
+    assert thaw_options(frozen) == {
+        "ipopt.tol": 1e-6,
+        "qpsol_options": {"a": {"x": "y"}, "b": (1, 2)},
+    }
