@@ -903,11 +903,10 @@ class OptimalControl:
         lbx[layout.u_start :] = -keep
         ubx[layout.u_start :] = keep
         if shrink is not None:  # node position bounds moved in (fixed states override them)
-            n = spec.limits.n
-            starts = layout.x_start + 3 * n * np.arange(layout.nodes)
-            index = (starts[:, None] + np.arange(n)[None, :]).reshape(-1)
-            lbx[index] = (-1.0 + shrink[:, 0] / half).reshape(-1)
-            ubx[index] = (1.0 - shrink[:, 1] / half).reshape(-1)
+            for node in range(layout.nodes):
+                index = layout.x_index(node, 0)
+                lbx[index] = -1.0 + shrink[node, 0] / half
+                ubx[index] = 1.0 - shrink[node, 1] / half
         for fixed in spec.fixed:
             node = int(first[fixed.phase] if fixed.at == "start" else first[fixed.phase + 1])
             for block, value, scale, shift in (
@@ -1148,11 +1147,6 @@ def _constraint_duals(saved: WarmStart, compiled: CompiledNLP) -> FloatArray | N
                 base + n * j : base + n * (j + 1)
             ]
     return lam_g
-
-
-def _positions_hold(traj: Trajectory, limits: JointLimits) -> bool:
-    """Whether every cubic piece stays within the position limits between its ends."""
-    return not _position_excess(traj, limits).any()
 
 
 def _casadi_reason(message: str) -> str:
