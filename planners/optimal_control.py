@@ -818,6 +818,11 @@ class OptimalControl:
                     # changes no iterate count (measured on the strike benchmark's shots).
                     "ipopt.mumps_permuting_scaling": 0,
                     "ipopt.mumps_scaling": 0,
+                    # IPOPT refines every step at least once by default; these steps meet
+                    # its residual test without it. Off: about 8 % less NLP time per
+                    # iteration, the same iterates (20 strike shots cold and warm, A/B
+                    # twice, identical iteration counts).
+                    "ipopt.min_refinement_steps": 0,
                 }
             )
         elif self.solver == "sqpmethod":
