@@ -267,8 +267,10 @@ class OptimalControlProblem:
         g = np.asarray(self.compiled.constraint_values(w, self.p)).reshape(-1)
         excess = np.maximum(self.compiled.lbg - g, g - self.compiled.ubg)
         result = {"bounds": float(np.max(np.maximum(self.lbx - w, w - self.ubx), initial=0.0))}
-        for name, first, end in self.compiled.groups:
-            result[name] = max(result.get(name, 0.0), float(np.max(excess[first:end])))
+        names, order, starts = self.compiled.group_order
+        if names:
+            peaks = np.maximum(np.maximum.reduceat(excess[order], starts), 0.0)
+            result.update(zip(names, peaks.tolist(), strict=True))
         return result
 
 

@@ -51,6 +51,7 @@ contact velocity are NLP parameters (:data:`PARAMETERS`).
 
 from __future__ import annotations
 
+import functools
 import threading
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -235,6 +236,24 @@ class CompiledNLP:
     torque_expansion: ca.Function | None = None
     warm_solver: ca.Function | None = None
     lock: threading.Lock = field(default_factory=threading.Lock)
+
+    @functools.cached_property
+    def group_order(self) -> tuple[tuple[str, ...], NDArray[np.intp], NDArray[np.intp]]:
+        """``(names, order, starts)``: the rows of ``g`` gathered by group.
+
+        ``names`` in order of first appearance; ``g[order]`` lists the rows of ``names[0]``
+        first, from ``starts[0]``, then those of ``names[1]``, and so on, so a reduction per
+        group is one ``reduceat``.
+        """
+        names = tuple(dict.fromkeys(name for name, first, end in self.groups if end > first))
+        pieces = [
+            np.concatenate([np.arange(a, b) for n, a, b in self.groups if n == name])
+            for name in names
+        ]
+        sizes = [piece.size for piece in pieces]
+        order = np.concatenate(pieces).astype(np.intp) if pieces else np.zeros(0, np.intp)
+        starts = np.cumsum([0, *sizes[:-1]]).astype(np.intp)
+        return names, order, starts
 
     def warm(self) -> ca.Function:
         """The solver set up for warm starts (primal and dual), built on first use."""

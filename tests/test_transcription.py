@@ -174,3 +174,14 @@ def test_solver_options_frozen_for_a_structure_thaw_back_to_nested_mappings():
         "ipopt.tol": 1e-6,
         "qpsol_options": {"a": {"x": "y"}, "b": (1, 2)},
     }
+
+
+def test_group_order_gathers_every_row_of_each_group_once():
+    _, compiled = _compiled(intervals=(3, 2), torque_nodes=(1, 4))
+    names, order, starts = compiled.group_order
+    assert names == tuple(dict.fromkeys(name for name, _, _ in compiled.groups))
+    assert sorted(order.tolist()) == list(range(compiled.lbg.size))
+    ends = [*starts[1:].tolist(), order.size]
+    for name, start, end in zip(names, starts.tolist(), ends, strict=True):
+        rows = [r for group, a, b in compiled.groups if group == name for r in range(a, b)]
+        assert order[start:end].tolist() == rows
