@@ -1175,16 +1175,16 @@ def _totals(traj: Trajectory, solves: list[Trajectory]) -> Trajectory:
     ``iterations`` and ``nlp_time`` [s] count every solve a plan made; ``warm_started``
     tells whether the first started from multipliers; ``round_iterations`` lists them.
     """
-    rounds: list[int] = []
-    for t in solves[:-1]:
-        rounds += t.metadata.get("round_iterations", [int(t.metadata["iterations"])])
+    rounds = [
+        count
+        for t in solves
+        for count in t.metadata.get("round_iterations", [int(t.metadata["iterations"])])
+    ]
+    nlp_time = sum(float(t.metadata["nlp_time"]) for t in solves)
     last = traj.metadata
-    rounds += last.get("round_iterations", [int(last["iterations"])])
     last["round_iterations"] = rounds
     last["iterations"] = sum(rounds)
-    last["nlp_time"] = sum(float(t.metadata["nlp_time"]) for t in solves[:-1]) + float(
-        last["nlp_time"]
-    )
+    last["nlp_time"] = nlp_time
     last["warm_started"] = bool(solves[0].metadata["warm_started"])
     return traj
 
