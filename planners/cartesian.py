@@ -2,7 +2,8 @@
 
 * :func:`follow_tool_path`: poses, twists and accelerations of the tool at sample times become
   joint states by inverse kinematics, sample by sample from the previous solution (so the
-  nearest branch is kept), and joint rates by least squares on the Jacobian; a quintic
+  nearest branch is kept), and joint rates by least squares on the Jacobian (a joint the
+  inverse kinematics holds on a position limit keeps still); a quintic
   Hermite spline through the states is the trajectory. A joint that jumps between samples is
   reported as :class:`optraj.errors.PathJumpError` (or a warning).
 * :class:`CartesianStraightLine`: a straight line between two poses with SLERP orientation,
@@ -52,6 +53,9 @@ FloatArray = NDArray[np.float64]
 _WORLD_ALIGNED = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 #: LSPB path scaling: blend time as a fraction of the duration (our choice).
 _LSPB_BLEND = 0.25
+#: A joint this close to a position limit [rad or m] counts as on it (our choice: far above the
+#: 1e-9 the inverse kinematics converges to, far below a joint's step between samples).
+_AT_LIMIT = 1e-6
 
 
 def path_scaling(name: str, tau: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -84,32 +88,54 @@ def path_scaling(name: str, tau: ArrayLike) -> tuple[FloatArray, FloatArray, Flo
     raise UnknownNameError("path scaling", name, ["cubic", "quintic", "lspb"])
 
 
-def _joint_acceleration(
+def _joint_rates(
     robot: Robot,
     frame_id: int,
     q: FloatArray,
-    qd: FloatArray,
     jac: FloatArray,
     twist: FloatArray,
     acceleration: FloatArray,
-) -> FloatArray:
-    r"""Time derivative of the least-squares joint velocity qd = J^+ V along the path.
+) -> tuple[FloatArray, FloatArray]:
+    r"""Least-squares joint velocity and its time derivative that make the frame move as asked.
+
+    qd = J^+ V over the joints that are free to move; a joint that sits on a position limit
+    and that least squares would drive past it is held (zero rate), as the inverse kinematics
+    holds it at the neighbouring samples: rates that ignore the hold disagree with the
+    positions and a spline through both bends between samples. The acceleration is
 
     .. math:: \ddot q = J^+ (a - \dot J \dot q) + (I - J^+ J) \dot J^T (J J^T)^{-1} V
 
-    The second term (only for an arm with more joints than task rows) is the null-space part
-    of d(J^+)/dt V; without it the accelerations would not be the derivative of the velocities
-    and a spline through both would bend between samples.
+    over the free joints. The second term (only for more free joints than task rows) is the
+    null-space part of d(J^+)/dt V; without it the accelerations would not be the derivative
+    of the velocities.
+
+    Returns:
+        qd [rad/s or m/s] and qdd [rad/s^2 or m/s^2], shape (n,) each.
     """
+    limits = robot.limits
+    at_lower = q <= limits.lower + _AT_LIMIT
+    at_upper = q >= limits.upper - _AT_LIMIT
+    free = np.ones(q.size, dtype=bool)
+    qd = np.zeros(q.size)
+    for _ in range(q.size):
+        qd[:] = 0.0
+        qd[free] = np.linalg.lstsq(jac[:, free], twist, rcond=None)[0]
+        outward = free & ((at_lower & (qd < 0.0)) | (at_upper & (qd > 0.0)))
+        if not outward.any():
+            break
+        free &= ~outward
     model, data = robot.model, robot.data
     pin.computeJointJacobiansTimeVariation(model, data, q, qd)
     jac_dot = pin.getFrameJacobianTimeVariation(model, data, frame_id, _WORLD_ALIGNED)
-    pseudo_inverse = np.linalg.pinv(jac)
-    qdd = pseudo_inverse @ (acceleration - jac_dot @ qd)
-    if jac.shape[1] > jac.shape[0] and np.linalg.matrix_rank(jac) == jac.shape[0]:
-        null_space = np.eye(jac.shape[1]) - pseudo_inverse @ jac
-        qdd += null_space @ jac_dot.T @ np.linalg.solve(jac @ jac.T, twist)
-    return qdd
+    jac_free = jac[:, free]
+    pseudo_inverse = np.linalg.pinv(jac_free)
+    qdd = np.zeros(q.size)
+    qdd[free] = pseudo_inverse @ (acceleration - jac_dot @ qd)
+    rows, columns = jac_free.shape
+    if columns > rows and np.linalg.matrix_rank(jac_free) == rows:
+        null_space = np.eye(columns) - pseudo_inverse @ jac_free
+        qdd[free] += null_space @ jac_dot[:, free].T @ np.linalg.solve(jac_free @ jac_free.T, twist)
+    return qd, qdd
 
 
 def point_joint_velocity(
@@ -216,10 +242,7 @@ def follow_tool_path(
                     raise error
                 warnings.warn(str(error), PathJumpWarning, stacklevel=2)
         jac = pin.computeFrameJacobian(robot.model, robot.data, q[i], frame_id, _WORLD_ALIGNED)
-        qd[i] = np.linalg.lstsq(jac, twist_array[i], rcond=None)[0]
-        qdd[i] = _joint_acceleration(
-            robot, frame_id, q[i], qd[i], jac, twist_array[i], accel_array[i]
-        )
+        qd[i], qdd[i] = _joint_rates(robot, frame_id, q[i], jac, twist_array[i], accel_array[i])
         previous = q[i]
     return Trajectory.from_hermite(t, q, qd, qdd, joint_names=robot.joint_names)
 

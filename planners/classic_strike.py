@@ -51,7 +51,7 @@ from optraj.errors import InfeasibleError, InvalidInputError
 from optraj.validation import as_count
 from planners.base import stamp
 from planners.lspb import LSPB
-from planners.strike import check_contact, contact_configuration, strike_line
+from planners.strike import check_contact, check_line, contact_configuration, strike_line
 from planners.time_scaling import (
     cubic_coefficients,
     polynomial_peaks,
@@ -79,8 +79,6 @@ _BISECTION_TOLERANCE = 1e-6
 _BISECTION_STEPS = 100
 #: Relative slack on the limits (round-off only) [-].
 _SLACK = 1e-9
-#: Samples per line segment when the line is checked against the limits.
-_LINE_SAMPLES = 16
 #: The limited quantities of each polynomial profile (a cubic's jerk is unbounded at its ends).
 _LIMITED: dict[str, tuple[str, ...]] = {
     "cubic": ("velocity", "acceleration"),
@@ -160,7 +158,7 @@ class ClassicStrike:
         limits = problem.limits
         q_contact, contact = contact_configuration(problem, self.contact)
         line = strike_line(problem, self.samples, q_contact=q_contact)
-        _check_line(line, limits, _LIMITED[self.profile], float(problem.speed))
+        check_line(line, limits, _LIMITED[self.profile], float(problem.speed))
         entry = line.sample(0.0)
         exit_state = line.sample(line.duration)
         extra: dict[str, object] = {"profile": self.profile, **contact}
@@ -349,54 +347,3 @@ def _worst(
 ) -> tuple[str, int, float, float] | None:
     """The worst limit broken as (quantity, joint, needed, allowed), or None."""
     return worst_rate_limit(polynomial_peaks(coeffs, duration), limits, quantities, _SLACK)
-
-
-def _check_line(
-    line: Trajectory, limits: JointLimits, quantities: tuple[str, ...], speed: float
-) -> None:
-    """Raise if the strike line breaks a limit (sampled, 16 instants per segment).
-
-    A guard only, so that no profile is searched for in vain: :func:`planners.check` judges
-    the whole trajectory exactly.
-
-    Args:
-        line: The strike window in joints.
-        limits: The joint limits.
-        quantities: Limited derivatives among ``velocity``, ``acceleration``, ``jerk``.
-        speed: The strike speed [m/s], for the message.
-
-    Raises:
-        InfeasibleError: E.g. "the strike line at 1 m/s needs joint 'right_j2' at 2.165 rad/s
-            (velocity), limit 1.957".
-    """
-    knots = line.breakpoints
-    fractions = np.linspace(0.0, 1.0, _LINE_SAMPLES, endpoint=False)
-    times = np.concatenate(
-        [(knots[:-1, None] + np.diff(knots)[:, None] * fractions).ravel(), knots[-1:]]
-    )
-    states = line.sample(times)
-    worst: tuple[float, str, int, float, float] | None = None
-    for quantity, values in (
-        ("velocity", states.qd),
-        ("acceleration", states.qdd),
-        ("jerk", states.jerk),
-    ):
-        if quantity not in quantities:
-            continue
-        allowed = getattr(limits, quantity)
-        ratio = np.max(np.abs(values), axis=0) / allowed
-        j = int(np.argmax(ratio))
-        if ratio[j] > 1.0 + _SLACK and (worst is None or ratio[j] > worst[0]):
-            worst = (float(ratio[j]), quantity, j, float(ratio[j] * allowed[j]), float(allowed[j]))
-    if worst is not None:
-        _, quantity, j, needed, allowed = worst
-        unit = limits.unit(quantity, j)
-        raise InfeasibleError(
-            f"the strike line at {speed:.4g} m/s needs joint {limits.names[j]!r} at "
-            f"{needed:.4g} {unit} ({quantity}), limit {allowed:.4g} {unit} (at the problem's "
-            "contact configuration)",
-            limit=quantity,
-            joint=limits.names[j],
-            required=needed,
-            allowed=allowed,
-        )

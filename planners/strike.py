@@ -36,9 +36,27 @@ from planners.trajectory import Trajectory
 from problems import PaddleStrike, PoolStrike
 from robots import JointLimits, Robot, solve_ik
 
-__all__ = ["CONTACTS", "TimeOptimalStrike", "check_contact", "contact_configuration", "strike_line"]
+__all__ = [
+    "CONTACTS",
+    "TimeOptimalStrike",
+    "check_contact",
+    "check_line",
+    "contact_configuration",
+    "strike_line",
+]
 
 FloatArray = NDArray[np.float64]
+
+#: Samples per line segment when the line is checked against the limits.
+_LINE_SAMPLES = 16
+#: Relative slack on the rate limits and absolute slack on positions [rad or m] (round-off).
+_RATE_SLACK = 1e-9
+_POSITION_SLACK = 1e-9
+#: The rate limits each approach keeps (TOPPRA's joint path is acceleration-limited only).
+_LIMITED: dict[str, tuple[str, ...]] = {
+    "ruckig": ("velocity", "acceleration", "jerk"),
+    "toppra": ("velocity", "acceleration"),
+}
 
 #: Where a pool strike's contact configuration comes from (:func:`contact_configuration`).
 CONTACTS: tuple[str, ...] = ("problem", "choose")
@@ -117,7 +135,9 @@ class TimeOptimalStrike:
         """Approach, strike, stop; phases ``approach``, ``strike`` (pool) and ``stop``.
 
         Raises:
-            InfeasibleError: The entry state cannot be reached, the contact time is too
+            InfeasibleError: The strike line breaks a joint limit (pool; Ruckig's limits
+                are position, velocity, acceleration and jerk, TOPPRA's all but jerk), the
+                entry state cannot be reached, the contact time is too
                 short for the fastest approach, or (``contact="choose"``) no contact
                 configuration can make the strike.
             UnreachableError: A pose on the strike line cannot be reached.
@@ -141,6 +161,7 @@ class TimeOptimalStrike:
         limits = problem.limits
         q_contact, extra = contact_configuration(problem, self.contact)
         line = strike_line(problem, self.samples, q_contact=q_contact)
+        check_line(line, limits, _LIMITED[self.approach], float(problem.speed))
         entry = line.sample(0.0)
         exit_state = line.sample(line.duration)
         zeros = np.zeros(limits.n)
@@ -257,6 +278,73 @@ def strike_line(
     poses[:, :3, 3] = problem.entry_point + speed * times[:, None] * direction
     twists = np.tile(np.concatenate([speed * direction, np.zeros(3)]), (times.size, 1))
     return follow_tool_path(robot, times, poses, twists, np.zeros_like(twists), q_entry)
+
+
+def check_line(
+    line: Trajectory, limits: JointLimits, quantities: tuple[str, ...], speed: float
+) -> None:
+    """Raise if the strike line leaves the position box or breaks a rate limit.
+
+    Sampled at 16 instants per segment: a guard, so that no approach is planned onto a line
+    the arm cannot follow (a joint that the inverse kinematics pins on a position limit
+    part-way along kinks the line); :func:`planners.check` judges the whole trajectory.
+
+    Args:
+        line: The strike window in joints.
+        limits: The joint limits.
+        quantities: Limited derivatives among ``velocity``, ``acceleration``, ``jerk``
+            (positions are always checked).
+        speed: The strike speed [m/s], for the message.
+
+    Raises:
+        InfeasibleError: E.g. "the strike line at 1 m/s needs joint 'right_j2' at 2.165 rad/s
+            (velocity), limit 1.957 rad/s (at its contact configuration)".
+    """
+    knots = line.breakpoints
+    fractions = np.linspace(0.0, 1.0, _LINE_SAMPLES, endpoint=False)
+    times = np.concatenate(
+        [(knots[:-1, None] + np.diff(knots)[:, None] * fractions).ravel(), knots[-1:]]
+    )
+    states = line.sample(times)
+    beyond = np.maximum(limits.lower - states.q, states.q - limits.upper)
+    i, j = np.unravel_index(int(np.argmax(beyond)), beyond.shape)
+    if beyond[i, j] > _POSITION_SLACK:
+        unit = limits.unit("position", j)
+        bound = limits.lower[j] if states.q[i, j] < limits.lower[j] else limits.upper[j]
+        raise InfeasibleError(
+            f"the strike line at {speed:.4g} m/s takes joint {limits.names[j]!r} to "
+            f"{states.q[i, j]:.6g} {unit}, {beyond[i, j]:.3g} {unit} beyond its limit "
+            f"{bound:.6g} {unit} (at its contact configuration)",
+            limit="position",
+            joint=limits.names[j],
+            required=float(states.q[i, j]),
+            allowed=float(bound),
+        )
+    worst: tuple[float, str, int, float, float] | None = None
+    for quantity, values in (
+        ("velocity", states.qd),
+        ("acceleration", states.qdd),
+        ("jerk", states.jerk),
+    ):
+        if quantity not in quantities:
+            continue
+        allowed = getattr(limits, quantity)
+        ratio = np.max(np.abs(values), axis=0) / allowed
+        k = int(np.argmax(ratio))
+        if ratio[k] > 1.0 + _RATE_SLACK and (worst is None or ratio[k] > worst[0]):
+            worst = (float(ratio[k]), quantity, k, float(ratio[k] * allowed[k]), float(allowed[k]))
+    if worst is not None:
+        _, quantity, k, needed, allowed_k = worst
+        unit = limits.unit(quantity, k)
+        raise InfeasibleError(
+            f"the strike line at {speed:.4g} m/s needs joint {limits.names[k]!r} at "
+            f"{needed:.4g} {unit} ({quantity}), limit {allowed_k:.4g} {unit} (at its contact "
+            "configuration)",
+            limit=quantity,
+            joint=limits.names[k],
+            required=needed,
+            allowed=allowed_k,
+        )
 
 
 def _approach_gap(problem: PoolStrike, approach: Trajectory) -> float:

@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pinocchio as pin
 import pytest
 from conftest import get_robot
 
 import problems
+import robots
 from optraj.errors import (
     InfeasibleError,
     InvalidInputError,
@@ -53,6 +56,33 @@ def test_lines_follow_the_segment_within_limits(profile, quantities):
         assert report.ok, report.summary()
         # Tight: the interpolated joint path stays within 1e-7 m of the line.
         assert report["tool path position"].value < 1e-7
+
+
+def test_a_joint_held_at_its_limit_stays_there_between_samples():
+    # Narrow right_j1 to half of the way it turns on a free line: the inverse kinematics then
+    # holds it on its lower limit for the second half while the other six joints keep the
+    # tool on the line. Rates that ignore the hold drive the spline past the limit.
+    sawyer = get_robot("sawyer")
+    free = _line_problem(2)
+    line = CartesianStraightLine("quintic").plan(free)
+    end = line.sample(np.array([line.duration])).q[0]
+    joint = sawyer.joint_names.index("right_j1")
+    assert end[joint] < sawyer.home[joint] - 0.1
+    lower = sawyer.limits.lower.copy()
+    lower[joint] = 0.5 * (sawyer.home[joint] + end[joint])
+    narrow = robots.Robot(
+        "sawyer",
+        sawyer.model,
+        replace(sawyer.limits, lower=lower),
+        sawyer.tool_frame,
+        {"home": sawyer.home},
+    )
+    problem = problems.CartesianLine(narrow, free.T_start, free.T_goal, q_start=sawyer.home)
+    traj = CartesianStraightLine("quintic").plan(problem)
+    report = check(traj, problem)
+    assert report.ok, report.summary()
+    assert report["position"].joint == "right_j1"
+    assert report["position"].margin < 1e-9  # on the limit, not short of it
 
 
 def test_speed_cap_sets_the_duration():

@@ -10,7 +10,7 @@ from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError
 from planners.checker import check
 from planners.classic_strike import ClassicStrike
 from planners.contact import choose_contact
-from planners.strike import TimeOptimalStrike
+from planners.strike import TimeOptimalStrike, strike_line
 
 ALL = ("position", "velocity", "acceleration", "jerk", "torque")
 STRIKE = ("strike window", "strike position", "strike speed", "strike axis", "contact")
@@ -97,6 +97,23 @@ def test_the_chosen_contact_plans_shots_the_nearest_branch_cannot():
         report = check(cubic, problem, quantities=("position", "velocity", "acceleration"))
         assert report.ok, report.summary()
         assert np.allclose(cubic.metadata["contact_configuration"], chosen)
+
+
+@pytest.mark.parametrize("approach", ["ruckig", "toppra"])
+def test_a_line_that_pins_a_joint_on_its_limit_is_refused(approach):
+    # Shot 0 of the 1 m/s draw: from the chosen contact, the inverse kinematics along the line
+    # pins right_j4 on its lower limit part-way, and the line kinks there (the other joints
+    # change course at once), so the spline through it passes the limit.
+    problem = next(_shots(1, speed=1.0))
+    with pytest.raises(InfeasibleError, match="takes joint 'right_j4' to") as info:
+        TimeOptimalStrike(approach, contact="choose").plan(problem)
+    assert (info.value.limit, info.value.joint) == ("position", "right_j4")
+    # The line itself, judged apart: it does leave the box.
+    line = strike_line(problem, q_contact=choose_contact(problem).q)
+    q = line.sample(np.linspace(0.0, line.duration, 20001)).q
+    j = problem.limits.names.index("right_j4")
+    assert q[:, j].min() < problem.limits.lower[j] - 1e-6
+    assert info.value.allowed == problem.limits.lower[j]
 
 
 def test_bad_arguments():
