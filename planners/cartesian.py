@@ -289,8 +289,9 @@ class CartesianStraightLine:
         Raises:
             UnreachableError: A pose on the line cannot be reached.
             PathJumpError: The joint solution jumps (near a singularity).
-            InfeasibleError: The given duration and speed cap disagree, or a fixed duration
-                breaks a joint limit.
+            InfeasibleError: The joint path leaves the position limits between samples (a
+                joint the inverse kinematics pins on a limit part-way kinks it), the given
+                duration and speed cap disagree, or a fixed duration breaks a joint limit.
         """
         if not isinstance(problem, CartesianLine):
             raise InvalidInputError(
@@ -344,7 +345,19 @@ class CartesianStraightLine:
         T >= r^(1/k); the checker finds the peaks exactly, between samples too.
         """
         quantities = ["velocity", "acceleration"] + (["jerk"] if self.profile == "quintic" else [])
-        report = check(unit, _LimitsOnly(problem.robot, problem.limits), quantities=quantities)
+        report = check(
+            unit, _LimitsOnly(problem.robot, problem.limits), quantities=["position", *quantities]
+        )
+        position = report["position"]
+        if not position.ok:
+            # Positions do not scale with the duration: no duration keeps this path inside.
+            raise InfeasibleError(
+                f"the line leaves the position limits: {position.detail}",
+                limit="position",
+                joint=position.joint,
+                required=position.value,
+                allowed=position.limit,
+            )
         order = {"velocity": 1.0, "acceleration": 2.0, "jerk": 3.0}
         return max(max(report[name].ratio, 0.0) ** (1.0 / order[name]) for name in quantities)
 

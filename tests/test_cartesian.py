@@ -58,31 +58,47 @@ def test_lines_follow_the_segment_within_limits(profile, quantities):
         assert report["tool path position"].value < 1e-7
 
 
-def test_a_joint_held_at_its_limit_stays_there_between_samples():
-    # Narrow right_j1 to half of the way it turns on a free line: the inverse kinematics then
-    # holds it on its lower limit for the second half while the other six joints keep the
-    # tool on the line. Rates that ignore the hold drive the spline past the limit.
+def _narrowed_line(seed: int, joint_name: str) -> problems.CartesianLine:
+    """Line ``seed`` on a Sawyer whose joint may turn only half as far as the free line turns
+    it: the inverse kinematics then pins the joint on that limit for the second half while
+    the other six keep the tool on the line."""
     sawyer = get_robot("sawyer")
-    free = _line_problem(2)
+    free = _line_problem(seed)
     line = CartesianStraightLine("quintic").plan(free)
     end = line.sample(np.array([line.duration])).q[0]
-    joint = sawyer.joint_names.index("right_j1")
-    assert end[joint] < sawyer.home[joint] - 0.1
-    lower = sawyer.limits.lower.copy()
-    lower[joint] = 0.5 * (sawyer.home[joint] + end[joint])
+    joint = sawyer.joint_names.index(joint_name)
+    turn = end[joint] - sawyer.home[joint]
+    assert abs(turn) > 0.1
+    lower, upper = sawyer.limits.lower.copy(), sawyer.limits.upper.copy()
+    (upper if turn > 0 else lower)[joint] = sawyer.home[joint] + 0.5 * turn
     narrow = robots.Robot(
         "sawyer",
         sawyer.model,
-        replace(sawyer.limits, lower=lower),
+        replace(sawyer.limits, lower=lower, upper=upper),
         sawyer.tool_frame,
         {"home": sawyer.home},
     )
-    problem = problems.CartesianLine(narrow, free.T_start, free.T_goal, q_start=sawyer.home)
+    return problems.CartesianLine(narrow, free.T_start, free.T_goal, q_start=sawyer.home)
+
+
+def test_a_joint_held_at_its_limit_stays_there_between_samples():
+    # Rates that ignore the hold drive the spline past the limit between samples.
+    problem = _narrowed_line(2, "right_j1")
     traj = CartesianStraightLine("quintic").plan(problem)
     report = check(traj, problem)
     assert report.ok, report.summary()
     assert report["position"].joint == "right_j1"
     assert report["position"].margin < 1e-9  # on the limit, not short of it
+
+
+def test_a_line_that_kinks_past_a_limit_is_refused():
+    # Here the joint reaches its limit while moving fast: the joint path kinks there and the
+    # spline through the samples passes the limit, at any duration.
+    problem = _narrowed_line(3, "right_j4")
+    with pytest.raises(InfeasibleError, match="leaves the position limits") as info:
+        CartesianStraightLine("quintic").plan(problem)
+    assert (info.value.limit, info.value.joint) == ("position", "right_j4")
+    assert info.value.required < info.value.allowed == problem.limits.lower[4]
 
 
 def test_speed_cap_sets_the_duration():
