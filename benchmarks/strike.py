@@ -200,8 +200,7 @@ def _median_or_nan(values: list[float]) -> float:
 
 def _medians(runs: list[dict[str, float]]) -> tuple[str, str, str, str, str]:
     def med(key: str, digits: int = 1) -> str:
-        values = [r[key] for r in runs if math.isfinite(r[key])]
-        return _cell(statistics.median(values), digits) if values else "-"
+        return _cell(_median_or_nan([r[key] for r in runs if math.isfinite(r[key])]), digits)
 
     walls = sorted(r["wall"] for r in runs if math.isfinite(r["wall"]))
     p95 = _cell(walls[min(len(walls) - 1, int(0.95 * len(walls)))], 1) if walls else "-"

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import time
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Literal
 
@@ -33,7 +34,7 @@ from optraj.errors import (
 )
 from optraj.validation import as_array, as_positive, as_vector
 from planners.base import stamp
-from planners.checker import check
+from planners.checker import Report, check
 from planners.trajectory import Phase, Trajectory
 from problems import CartesianLine, PaddleStrike
 from robots import JointLimits, Robot, solve_ik
@@ -43,6 +44,7 @@ __all__ = [
     "CartesianStraightLine",
     "LinearTrajectory",
     "follow_tool_path",
+    "limit_report",
     "paddle_contact_velocity",
     "path_scaling",
     "point_joint_velocity",
@@ -56,6 +58,8 @@ _LSPB_BLEND = 0.25
 #: A joint this close to a position limit [rad or m] counts as on it (our choice: far above the
 #: 1e-9 the inverse kinematics converges to, far below a joint's step between samples).
 _AT_LIMIT = 1e-6
+#: How far a joint path may pass a position limit before it is refused [rad or m] (round-off).
+_POSITION_SLACK = 1e-9
 
 
 def path_scaling(name: str, tau: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -136,6 +140,49 @@ def _joint_rates(
         null_space = np.eye(columns) - pseudo_inverse @ jac_free
         qdd[free] += null_space @ jac_dot[:, free].T @ np.linalg.solve(jac_free @ jac_free.T, twist)
     return qd, qdd
+
+
+def limit_report(
+    traj: Trajectory,
+    robot: Robot,
+    limits: JointLimits,
+    quantities: Sequence[str],
+    subject: str,
+    context: str = "",
+) -> Report:
+    """The checker's report on a joint path against the joint limits alone (no task).
+
+    Positions are always judged (exact peaks, between samples too); a path that leaves the
+    position limits by more than :data:`_POSITION_SLACK` is refused.
+
+    Args:
+        traj: The joint path.
+        robot: The robot.
+        limits: The limits to judge against.
+        quantities: Other quantities to report, e.g. ``["velocity", "acceleration"]``.
+        subject: What the path is, for the message, e.g. ``"the line"``.
+        context: Appended to the message, e.g. ``" (at its contact configuration)"``.
+
+    Returns:
+        The report, with ``position`` and the findings of ``quantities``.
+
+    Raises:
+        InfeasibleError: The path leaves the position limits (``limit="position"``, the
+            ``joint``, the position it reaches and the limit) [rad or m].
+    """
+    report = check(traj, _LimitsOnly(robot, limits), quantities=["position", *quantities])
+    position = report["position"]
+    if position.margin < -_POSITION_SLACK:
+        raise InfeasibleError(
+            f"{subject} leaves the position limits: it takes joint {position.joint!r} to "
+            f"{position.value:.6g} {position.unit}, {-position.margin:.3g} {position.unit} "
+            f"beyond its limit {position.limit:.6g} {position.unit}{context}",
+            limit="position",
+            joint=position.joint,
+            required=position.value,
+            allowed=position.limit,
+        )
+    return report
 
 
 def point_joint_velocity(
@@ -345,19 +392,9 @@ class CartesianStraightLine:
         T >= r^(1/k); the checker finds the peaks exactly, between samples too.
         """
         quantities = ["velocity", "acceleration"] + (["jerk"] if self.profile == "quintic" else [])
-        report = check(
-            unit, _LimitsOnly(problem.robot, problem.limits), quantities=["position", *quantities]
-        )
-        position = report["position"]
-        if not position.ok:
-            # Positions do not scale with the duration: no duration keeps this path inside.
-            raise InfeasibleError(
-                f"the line leaves the position limits: {position.detail}",
-                limit="position",
-                joint=position.joint,
-                required=position.value,
-                allowed=position.limit,
-            )
+        # Positions do not scale with the duration: no duration keeps a path inside that
+        # leaves the box.
+        report = limit_report(unit, problem.robot, problem.limits, quantities, "the line")
         order = {"velocity": 1.0, "acceleration": 2.0, "jerk": 3.0}
         return max(max(report[name].ratio, 0.0) ** (1.0 / order[name]) for name in quantities)
 

@@ -158,7 +158,7 @@ class ClassicStrike:
         limits = problem.limits
         q_contact, contact = contact_configuration(problem, self.contact)
         line = strike_line(problem, self.samples, q_contact=q_contact)
-        check_line(line, limits, _LIMITED[self.profile], float(problem.speed))
+        check_line(line, problem.robot, limits, _LIMITED[self.profile], float(problem.speed))
         entry = line.sample(0.0)
         exit_state = line.sample(line.duration)
         extra: dict[str, object] = {"profile": self.profile, **contact}

@@ -28,9 +28,10 @@ from numpy.typing import NDArray
 from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError
 from optraj.validation import as_count
 from planners.base import stamp
-from planners.cartesian import follow_tool_path, paddle_contact_velocity
+from planners.cartesian import follow_tool_path, limit_report, paddle_contact_velocity
 from planners.contact import choose_contact
 from planners.ruckig_planner import state_to_state, stop
+from planners.time_scaling import worst_rate_limit
 from planners.toppra_planner import Toppra
 from planners.trajectory import Trajectory
 from problems import PaddleStrike, PoolStrike
@@ -49,9 +50,8 @@ FloatArray = NDArray[np.float64]
 
 #: Samples per line segment when the line is checked against the limits.
 _LINE_SAMPLES = 16
-#: Relative slack on the rate limits and absolute slack on positions [rad or m] (round-off).
+#: Relative slack on the rate limits (round-off).
 _RATE_SLACK = 1e-9
-_POSITION_SLACK = 1e-9
 #: The rate limits each approach keeps (TOPPRA's joint path is acceleration-limited only).
 _LIMITED: dict[str, tuple[str, ...]] = {
     "ruckig": ("velocity", "acceleration", "jerk"),
@@ -161,7 +161,7 @@ class TimeOptimalStrike:
         limits = problem.limits
         q_contact, extra = contact_configuration(problem, self.contact)
         line = strike_line(problem, self.samples, q_contact=q_contact)
-        check_line(line, limits, _LIMITED[self.approach], float(problem.speed))
+        check_line(line, problem.robot, limits, _LIMITED[self.approach], float(problem.speed))
         entry = line.sample(0.0)
         exit_state = line.sample(line.duration)
         zeros = np.zeros(limits.n)
@@ -281,69 +281,54 @@ def strike_line(
 
 
 def check_line(
-    line: Trajectory, limits: JointLimits, quantities: tuple[str, ...], speed: float
+    line: Trajectory,
+    robot: Robot,
+    limits: JointLimits,
+    quantities: tuple[str, ...],
+    speed: float,
 ) -> None:
-    """Raise if the strike line leaves the position box or breaks a rate limit.
+    """Raise if the strike line leaves the position limits or breaks a rate limit.
 
-    Sampled at 16 instants per segment: a guard, so that no approach is planned onto a line
-    the arm cannot follow (a joint that the inverse kinematics pins on a position limit
-    part-way along kinks the line); :func:`planners.check` judges the whole trajectory.
+    A guard, so that no approach is planned onto a line the arm cannot follow (a joint that
+    the inverse kinematics pins on a position limit part-way along kinks the line):
+    positions are judged exactly (:func:`planners.cartesian.limit_report`), rates at 16
+    instants per segment; :func:`planners.check` judges the whole trajectory.
 
     Args:
         line: The strike window in joints.
+        robot: The robot.
         limits: The joint limits.
-        quantities: Limited derivatives among ``velocity``, ``acceleration``, ``jerk``
-            (positions are always checked).
+        quantities: Limited derivatives among ``velocity``, ``acceleration``, ``jerk``.
         speed: The strike speed [m/s], for the message.
 
     Raises:
         InfeasibleError: E.g. "the strike line at 1 m/s needs joint 'right_j2' at 2.165 rad/s
             (velocity), limit 1.957 rad/s (at its contact configuration)".
     """
+    subject = f"the strike line at {speed:.4g} m/s"
+    limit_report(line, robot, limits, (), subject, " (at its contact configuration)")
     knots = line.breakpoints
     fractions = np.linspace(0.0, 1.0, _LINE_SAMPLES, endpoint=False)
     times = np.concatenate(
         [(knots[:-1, None] + np.diff(knots)[:, None] * fractions).ravel(), knots[-1:]]
     )
     states = line.sample(times)
-    beyond = np.maximum(limits.lower - states.q, states.q - limits.upper)
-    i, j = np.unravel_index(int(np.argmax(beyond)), beyond.shape)
-    if beyond[i, j] > _POSITION_SLACK:
-        unit = limits.unit("position", j)
-        bound = limits.lower[j] if states.q[i, j] < limits.lower[j] else limits.upper[j]
-        raise InfeasibleError(
-            f"the strike line at {speed:.4g} m/s takes joint {limits.names[j]!r} to "
-            f"{states.q[i, j]:.6g} {unit}, {beyond[i, j]:.3g} {unit} beyond its limit "
-            f"{bound:.6g} {unit} (at its contact configuration)",
-            limit="position",
-            joint=limits.names[j],
-            required=float(states.q[i, j]),
-            allowed=float(bound),
-        )
-    worst: tuple[float, str, int, float, float] | None = None
-    for quantity, values in (
-        ("velocity", states.qd),
-        ("acceleration", states.qdd),
-        ("jerk", states.jerk),
-    ):
-        if quantity not in quantities:
-            continue
-        allowed = getattr(limits, quantity)
-        ratio = np.max(np.abs(values), axis=0) / allowed
-        k = int(np.argmax(ratio))
-        if ratio[k] > 1.0 + _RATE_SLACK and (worst is None or ratio[k] > worst[0]):
-            worst = (float(ratio[k]), quantity, k, float(ratio[k] * allowed[k]), float(allowed[k]))
+    peaks = {
+        "velocity": np.max(np.abs(states.qd), axis=0),
+        "acceleration": np.max(np.abs(states.qdd), axis=0),
+        "jerk": np.max(np.abs(states.jerk), axis=0),
+    }
+    worst = worst_rate_limit(peaks, limits, quantities, _RATE_SLACK)
     if worst is not None:
-        _, quantity, k, needed, allowed_k = worst
-        unit = limits.unit(quantity, k)
+        quantity, j, needed, allowed = worst
+        unit = limits.unit(quantity, j)
         raise InfeasibleError(
-            f"the strike line at {speed:.4g} m/s needs joint {limits.names[k]!r} at "
-            f"{needed:.4g} {unit} ({quantity}), limit {allowed_k:.4g} {unit} (at its contact "
-            "configuration)",
+            f"{subject} needs joint {limits.names[j]!r} at {needed:.4g} {unit} ({quantity}), "
+            f"limit {allowed:.4g} {unit} (at its contact configuration)",
             limit=quantity,
-            joint=limits.names[k],
+            joint=limits.names[j],
             required=needed,
-            allowed=allowed_k,
+            allowed=allowed,
         )
 
 
