@@ -56,6 +56,7 @@ from planners.time_scaling import (
     cubic_coefficients,
     polynomial_peaks,
     quintic_coefficients,
+    rate_limit_error,
     worst_rate_limit,
 )
 from planners.trajectory import Trajectory, TrajectorySample
@@ -283,16 +284,11 @@ def shortest_duration(
         best = float(grid[int(np.argmin(ratios))])
         # Sampled peaks never exceed the exact ones, so the best grid point fails exactly too.
         failure = _worst(coefficients(best), best, limits, quantities)
-        quantity, j, needed, allowed = failure or ("velocity", 0, math.nan, math.nan)
-        unit = limits.unit(quantity, j)
-        raise InfeasibleError(
+        raise rate_limit_error(
+            failure or ("velocity", 0, math.nan, math.nan),
+            limits,
             f"no {what} between {_SHORTEST:g} s and {_LONGEST:g} s keeps the limits: the best, "
-            f"{best:.4g} s long, needs joint {limits.names[j]!r} at {needed:.4g} {unit} "
-            f"({quantity}), limit {allowed:.4g} {unit}",
-            limit=quantity,
-            joint=limits.names[j],
-            required=needed,
-            allowed=allowed,
+            f"{best:.4g} s long,",
         )
     for _ in range(_BISECTION_STEPS):
         if high - low <= _BISECTION_TOLERANCE * high:

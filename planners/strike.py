@@ -31,7 +31,7 @@ from planners.base import stamp
 from planners.cartesian import follow_tool_path, limit_report, paddle_contact_velocity
 from planners.contact import choose_contact
 from planners.ruckig_planner import state_to_state, stop
-from planners.time_scaling import worst_rate_limit
+from planners.time_scaling import rate_limit_error, worst_rate_limit
 from planners.toppra_planner import Toppra
 from planners.trajectory import Trajectory
 from problems import PaddleStrike, PoolStrike
@@ -320,16 +320,7 @@ def check_line(
     }
     worst = worst_rate_limit(peaks, limits, quantities, _RATE_SLACK)
     if worst is not None:
-        quantity, j, needed, allowed = worst
-        unit = limits.unit(quantity, j)
-        raise InfeasibleError(
-            f"{subject} needs joint {limits.names[j]!r} at {needed:.4g} {unit} ({quantity}), "
-            f"limit {allowed:.4g} {unit} (at its contact configuration)",
-            limit=quantity,
-            joint=limits.names[j],
-            required=needed,
-            allowed=allowed,
-        )
+        raise rate_limit_error(worst, limits, subject, " (at its contact configuration)")
 
 
 def _approach_gap(problem: PoolStrike, approach: Trajectory) -> float:

@@ -28,6 +28,7 @@ __all__ = [
     "cubic_coefficients",
     "polynomial_peaks",
     "quintic_coefficients",
+    "rate_limit_error",
     "worst_rate_limit",
 ]
 
@@ -176,6 +177,26 @@ def worst_rate_limit(
     return worst
 
 
+def rate_limit_error(
+    worst: tuple[str, int, float, float], limits: JointLimits, subject: str, context: str = ""
+) -> InfeasibleError:
+    """The error for a broken rate limit, :func:`worst_rate_limit`'s ``worst``.
+
+    Reads "<subject> needs joint 'j' at <needed> <unit> (<quantity>), limit <allowed>
+    <unit><context>".
+    """
+    quantity, j, needed, allowed = worst
+    unit = limits.unit(quantity, j)
+    return InfeasibleError(
+        f"{subject} needs joint {limits.names[j]!r} at {needed:.4g} {unit} ({quantity}), "
+        f"limit {allowed:.4g} {unit}{context}",
+        limit=quantity,
+        joint=limits.names[j],
+        required=needed,
+        allowed=allowed,
+    )
+
+
 class _Polynomial(JointProfile):
     """Shared machinery of the cubic and quintic scalings."""
 
@@ -273,16 +294,7 @@ class _Polynomial(JointProfile):
         coeffs = self._coefficients(q0, q1, duration, boundary)
         failure = self._check(coeffs, duration, limits)
         if failure is not None:
-            quantity, j, needed, allowed = failure
-            unit = limits.unit(quantity, j)
-            raise InfeasibleError(
-                f"{self.name} in {duration:.4g} s needs joint {limits.names[j]!r} at "
-                f"{needed:.4g} {unit} ({quantity}), limit {allowed:.4g} {unit}",
-                limit=quantity,
-                joint=limits.names[j],
-                required=needed,
-                allowed=allowed,
-            )
+            raise rate_limit_error(failure, limits, f"{self.name} in {duration:.4g} s")
         return Trajectory([0.0, duration], coeffs[None], joint_names=limits.names)
 
     def move(
