@@ -40,6 +40,9 @@ _LOCATE_TOLERANCE = 1e-6
 _STALL_WINDOW = 10
 _STALL_RATIO = 0.99
 _STALL_ERROR = 1e-2
+#: Random restarts run one by one while at most this many more solutions are wanted, and
+#: otherwise in batches of twice the number wanted.
+_ONE_BY_ONE = 2
 
 
 @dataclass(frozen=True)
@@ -153,6 +156,23 @@ class _PoseError:
         return position, gap
 
 
+def _stalls(history: list[float], cost: float) -> bool:
+    """Whether an attempt at this cost has stalled (see :data:`_STALL_WINDOW`).
+
+    ``history`` holds the attempt's error (the residual norm) at the start of each earlier
+    iteration; unless the attempt stalls, this one's is appended.
+    """
+    error = math.sqrt(cost)
+    if (
+        len(history) >= _STALL_WINDOW
+        and error > _STALL_ERROR
+        and error >= _STALL_RATIO * history[-_STALL_WINDOW]
+    ):
+        return True
+    history.append(error)
+    return False
+
+
 def _levenberg_marquardt(
     problem: _PoseError,
     q0: FloatArray,
@@ -186,16 +206,9 @@ def _levenberg_marquardt(
             errors = problem.errors(residual)
             if max(errors) <= tolerance:
                 break
-        if stall:
-            error = math.sqrt(cost)
-            if (
-                len(history) >= _STALL_WINDOW
-                and error > _STALL_ERROR
-                and error >= _STALL_RATIO * history[-_STALL_WINDOW]
-            ):
-                stalled = True
-                break
-            history.append(error)
+        if stall and _stalls(history, cost):
+            stalled = True
+            break
         iteration += 1
         jac = problem.jacobian(data, q, relative)
         gradient = jac.T @ residual
@@ -233,6 +246,101 @@ def _levenberg_marquardt(
     if errors is None:
         errors = problem.errors(residual)
     return _Attempt(q, errors[0], errors[1], iteration, stalled)
+
+
+def _levenberg_marquardt_batch(
+    problem: _PoseError,
+    starts: FloatArray,
+    tolerance: float,
+    max_iterations: int,
+    *,
+    stall: bool = False,
+) -> list[_Attempt]:
+    """:func:`_levenberg_marquardt` from each row of ``starts`` [rad or m], shape (k, n).
+
+    The attempts run side by side: each takes the steps it would take alone (the same tests,
+    damping updates and held joints; the stacked linear algebra may differ in the last bit),
+    while the matrix products and solves of all attempts share one NumPy call each, whose
+    overhead dominates the time of an attempt run alone.
+    """
+    data = problem.robot.data
+    lower, upper = problem.lower, problem.upper
+    count, n = starts.shape
+    not_yet = 2.0 * (1.0 + 1e-6) * tolerance * tolerance  # as in _levenberg_marquardt
+    q = starts.copy()
+    first = [problem.residual(data, row) for row in q]
+    residuals = np.array([residual for residual, _ in first])
+    orientations = [orientation for _, orientation in first]
+    cost = [float(residual @ residual) for residual in residuals]
+    damping = [1e-3] * count
+    iterations = [0] * count
+    histories: list[list[float]] = [[] for _ in range(count)]
+    stalled = [False] * count
+    normal = np.empty((count, n, n))
+    descent = np.empty((count, n))
+    jacobians = np.empty((count, residuals.shape[1], n))
+    running = list(range(count))
+    moved = set(running)  # at a new iterate: test it, then linearise there
+    eye = problem.identities[-1]
+    while running:
+        trying, linearised = [], []
+        for i in running:
+            if i in moved:
+                if iterations[i] >= max_iterations:
+                    continue
+                if cost[i] <= not_yet and max(problem.errors(residuals[i])) <= tolerance:
+                    continue
+                if stall and _stalls(histories[i], cost[i]):
+                    stalled[i] = True
+                    continue
+                iterations[i] += 1
+                jacobians[i] = problem.jacobian(data, q[i], orientations[i])
+                linearised.append(i)
+            trying.append(i)
+        if not trying:
+            break
+        if linearised:
+            rows = np.array(linearised)
+            jac = jacobians[rows]
+            jac_t = jac.transpose(0, 2, 1)
+            gradient = (jac_t @ residuals[rows][:, :, None])[:, :, 0]
+            normals = jac_t @ jac
+            here = q[rows]
+            # Joints on a limit that the gradient pushes outwards are held for the step: their
+            # rows and columns are cleared, so the damped solve gives them a zero step.
+            held = ((here <= lower) & (gradient > 0.0)) | ((here >= upper) & (gradient < 0.0))
+            if np.count_nonzero(held):
+                free = ~held
+                normals *= free[:, :, None] & free[:, None, :]
+                gradient *= free
+            normal[rows] = normals
+            descent[rows] = -gradient
+        rows = np.array(trying)
+        factors = np.array([damping[i] for i in trying])
+        steps = np.linalg.solve(normal[rows] + factors[:, None, None] * eye, descent[rows, :, None])
+        candidates = np.minimum(np.maximum(q[rows] + steps[:, :, 0], lower), upper)
+        running = []
+        for candidate, i in zip(candidates, trying, strict=True):
+            residual, orientation = problem.residual(data, candidate)
+            new_cost = float(residual @ residual)
+            if new_cost < cost[i]:
+                q[i], residuals[i], orientations[i] = candidate, residual, orientation
+                cost[i] = new_cost
+                damping[i] = max(damping[i] / 3.0, _MIN_DAMPING)
+                moved.add(i)
+                running.append(i)
+                continue
+            damping[i] *= 4.0
+            moved.discard(i)
+            if damping[i] <= _MAX_DAMPING:  # else no step lowers the error: given up
+                running.append(i)
+    attempts = []
+    for i in range(count):
+        position_error, orientation_error = problem.errors(residuals[i])
+        attempts.append(
+            _Attempt(q[i].copy(), position_error, orientation_error, iterations[i], stalled[i])
+        )
+    return attempts
 
 
 class LocalIK:
@@ -408,32 +516,52 @@ def solve_ik(
     full = rotation is not None or direction is not None
     locate = _PoseError(robot, problem.frame_id, position) if full else None
 
-    attempts: list[_Attempt] = []
-    found: list[_Attempt] = []
-    start = robot.limits.clip(reference)
-    while True:
-        attempt = None
-        if locate is not None and attempts:
-            located = _levenberg_marquardt(
-                locate, start, _LOCATE_TOLERANCE, max_iterations, stall=bool(abandon_stalled)
-            )
-            if located.stalled:  # give this start up: report the full error where it stopped
-                position_error, orientation_error = problem.errors(
-                    problem.residual(robot.data, located.q)[0]
-                )
-                attempt = _Attempt(located.q, position_error, orientation_error, 0, stalled=True)
-            start = located.q
-        if attempt is None:
-            give_up = bool(abandon_stalled) and bool(attempts)  # never the first attempt
-            attempt = _levenberg_marquardt(problem, start, tol, max_iterations, stall=give_up)
+    def keep(attempt: _Attempt) -> bool:
+        """Record an attempt; whether the search is over."""
         attempts.append(attempt)
         if attempt.worst_error <= tol and all(
             np.linalg.norm(attempt.q - other.q) > 1e-6 for other in found
         ):
             found.append(attempt)
-        if len(found) >= min_solutions or len(attempts) > restarts:
-            break
-        start = robot.random_configurations(1, rng)[0]
+        return len(found) >= min_solutions or len(attempts) > restarts
+
+    attempts: list[_Attempt] = []
+    found: list[_Attempt] = []
+    # The first attempt, from the reference, is never given up.
+    done = keep(_levenberg_marquardt(problem, robot.limits.clip(reference), tol, max_iterations))
+    stall = bool(abandon_stalled)
+
+    def run(target: _PoseError, starts: FloatArray, tolerance: float) -> list[_Attempt]:
+        """One attempt from each start: side by side when there are several."""
+        if len(starts) == 1:
+            return [_levenberg_marquardt(target, starts[0], tolerance, max_iterations, stall=stall)]
+        return _levenberg_marquardt_batch(target, starts, tolerance, max_iterations, stall=stall)
+
+    while not done:
+        # Random restarts run in batches when many solutions are still wanted (see
+        # _levenberg_marquardt_batch), one by one otherwise, since a batch may overshoot the
+        # attempts needed. They are kept in order until the search would have stopped had
+        # they all run one by one and the rest of a batch is dropped: the attempts kept are
+        # those of a one-by-one search, up to rounding in the batched arithmetic (a Generator
+        # passed as the seed is advanced by whole batches).
+        wanted = min_solutions - len(found)
+        size = min(restarts + 1 - len(attempts), 2 * wanted if wanted > _ONE_BY_ONE else 1)
+        starts = robot.random_configurations(size, rng)
+        batch: list[_Attempt | None] = [None] * size
+        if locate is not None:
+            for index, located in enumerate(run(locate, starts, _LOCATE_TOLERANCE)):
+                if located.stalled:  # given up: report the full error where it stopped
+                    errors = problem.errors(problem.residual(robot.data, located.q)[0])
+                    batch[index] = _Attempt(located.q, errors[0], errors[1], 0, stalled=True)
+                starts[index] = located.q
+        going = [index for index in range(size) if batch[index] is None]
+        if going:
+            for index, attempt in zip(going, run(problem, starts[going], tol), strict=True):
+                batch[index] = attempt
+        for attempt in batch:
+            if attempt is not None and keep(attempt):
+                done = True
+                break
     iterations = sum(attempt.iterations for attempt in attempts)
     if not found:
         best = min(attempts, key=lambda attempt: attempt.worst_error)
