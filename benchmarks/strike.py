@@ -276,7 +276,7 @@ def extra_sections(shots: list[problems.PoolStrike], quick: bool = False) -> lis
         f"that bind (right_j0's effort at {WEAK_SHOULDER:g} of its rating, default "
         '`torque="auto"`): cold like the first row, after an untimed plan of the unmoved '
         "shot; NLP time and iterations are summed over every round. Wall time includes the "
-        "contact choice (about 35 ms; about 3 ms from the warm start's branch) and every "
+        "contact choice (about 45 ms; about 1 ms from the warm start's branch) and every "
         "round; NLP time is IPOPT alone. A kept branch may not be the one a cold plan picks "
         "(the one the arm reaches soonest), so warm motions may take longer.",
         "",

@@ -689,8 +689,8 @@ def choose_contact(
     Args:
         problem: A :class:`problems.PoolStrike` or :class:`problems.PaddleStrike`.
         candidates: IK solutions to collect for a pool strike (>= 1); more search wider and
-            take longer (about 1.5 ms each on Sawyer, where the whole choice takes about 35 ms
-            with the defaults).
+            take longer (on Sawyer the whole choice takes about 45 ms with the defaults, median
+            over the strike benchmark's shots).
         seed: Seed of the IK's random restarts (the result is reproducible).
         margin: Fraction of the velocity limits kept in reserve, in [0, 1): the strike is
             accepted when its ratio is at most 1 - margin.
@@ -859,8 +859,8 @@ def contact_near(problem: PoolStrike, q: ArrayLike, *, margin: float = 0.0) -> C
 
     For re-planning a strike that changed a little (the ball moved, another heading or
     speed) from a previous contact configuration q: one local IK from q and one evaluation
-    of its strike window (about 3 ms on Sawyer), instead of :func:`choose_contact`'s search
-    (about 35 ms). It is returned only when :func:`choose_contact` would count it fast enough
+    of its strike window (about 1 ms on Sawyer), instead of :func:`choose_contact`'s search
+    (about 45 ms). It is returned only when :func:`choose_contact` would count it fast enough
     with room to spare: the speed times the larger of its velocity ratio and its
     room-to-turn estimate at most 90 % of ``1 - margin``. Otherwise None: run the search.
 
