@@ -173,6 +173,16 @@ def _stalls(history: list[float], cost: float) -> bool:
     return False
 
 
+def _unconverged_cost(tolerance: float) -> float:
+    """A cost (squared residual norm) above which no attempt has converged to ``tolerance``.
+
+    The worst error is at least sqrt(cost / 2) (position and orientation rows share the cost,
+    and the axis angle exceeds the chord), so above this bound the exact test can wait (it is
+    loosened well beyond rounding).
+    """
+    return 2.0 * (1.0 + 1e-6) * tolerance * tolerance
+
+
 def _levenberg_marquardt(
     problem: _PoseError,
     q0: FloatArray,
@@ -189,10 +199,7 @@ def _levenberg_marquardt(
     """
     data = problem.robot.data
     lower, upper, eye = problem.lower, problem.upper, problem.identities[-1]
-    # The worst error is at least sqrt(cost / 2) (position and orientation rows share the
-    # cost, and the axis angle exceeds the chord), so a cost above this bound is not converged
-    # and the exact test can wait (the bound is loosened well beyond rounding).
-    not_yet = 2.0 * (1.0 + 1e-6) * tolerance * tolerance
+    not_yet = _unconverged_cost(tolerance)
     q = q0.copy()
     residual, relative = problem.residual(data, q)
     cost = float(residual @ residual)
@@ -266,7 +273,7 @@ def _levenberg_marquardt_batch(
     data = problem.robot.data
     lower, upper = problem.lower, problem.upper
     count, n = starts.shape
-    not_yet = 2.0 * (1.0 + 1e-6) * tolerance * tolerance  # as in _levenberg_marquardt
+    not_yet = _unconverged_cost(tolerance)
     q = starts.copy()
     first = [problem.residual(data, row) for row in q]
     residuals = np.array([residual for residual, _ in first])
@@ -278,7 +285,6 @@ def _levenberg_marquardt_batch(
     stalled = [False] * count
     normal = np.empty((count, n, n))
     descent = np.empty((count, n))
-    jacobians = np.empty((count, residuals.shape[1], n))
     running = list(range(count))
     moved = set(running)  # at a new iterate: test it, then linearise there
     eye = problem.identities[-1]
@@ -294,14 +300,13 @@ def _levenberg_marquardt_batch(
                     stalled[i] = True
                     continue
                 iterations[i] += 1
-                jacobians[i] = problem.jacobian(data, q[i], orientations[i])
                 linearised.append(i)
             trying.append(i)
         if not trying:
             break
         if linearised:
             rows = np.array(linearised)
-            jac = jacobians[rows]
+            jac = np.array([problem.jacobian(data, q[i], orientations[i]) for i in linearised])
             jac_t = jac.transpose(0, 2, 1)
             gradient = (jac_t @ residuals[rows][:, :, None])[:, :, 0]
             normals = jac_t @ jac
