@@ -66,7 +66,7 @@ def test_strike_quick_run_writes_its_table(tmp_path, monkeypatch):
     # The seed jumps to full speed at the entry: planned every time, never within the limits.
     solved = int(rows["optimal control (min time)"]["success"].split("/")[0])
     assert solved >= 3  # it chooses its own contact configuration
-    assert "| warm |" in extras and "| cold |" in extras
+    assert all(f"| {run} |" in extras for run in ("cold", "first plan", "warm"))
     seed = rows["seed (pull back + line)"]
     assert seed["success"].startswith("0/4") and "acceleration 4" in seed["checker failures"]
     assert seed["errors"] == "-"
