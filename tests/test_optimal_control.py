@@ -26,6 +26,7 @@ from planners.optimal_control import (
     OptimalControl,
     WarmStart,
     _constraint_duals,
+    _integrable,
     _position_excess,
     _shrunk,
     _tightened,
@@ -402,6 +403,27 @@ def test_build_and_solve_apart():
     assert check(traj, problem).ok
     for key in ("solver_status", "iterations", "nlp_time", "constraint_violation", "objective"):
         assert key in traj.metadata
+
+
+def test_a_sampled_guess_is_fitted_to_the_dynamics_rows():
+    planner = OptimalControl("time")
+    built = planner.build(next(_shots(1, speed=1.0)))
+    layout = built.compiled.layout
+    kept = [int(node) for node in layout.first_node]
+    rng = np.random.default_rng(5)
+    noisy = built.x0.copy()
+    noisy[layout.x_start :] += 0.05 * rng.standard_normal(noisy.size - layout.x_start)
+    fitted = _integrable(noisy, layout, built.compiled.scale, kept)
+    assert built.violations(noisy)["dynamics"] > 1e-2
+    assert built.violations(fitted)["dynamics"] < 1e-9
+    np.testing.assert_array_equal(fitted[: layout.K], noisy[: layout.K])  # interval lengths
+    # The phase ends keep their sampled states more closely than the other nodes.
+    moved = np.abs(layout.split(fitted)[1] - layout.split(noisy)[1]).max(axis=1)
+    assert moved[kept].mean() < 0.5 * np.delete(moved, kept).mean()
+    # A solution already meets the rows: the fit leaves it (up to the small jerk weight).
+    solved = planner.solve(built).metadata["warm_start"].w
+    again = _integrable(solved, layout, built.compiled.scale, kept)
+    assert np.abs(again - solved).max() < 1e-4
 
 
 def test_warm_start_from_a_previous_solution_and_from_another_planner():
