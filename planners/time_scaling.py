@@ -187,13 +187,21 @@ def rate_limit_error(
     """
     quantity, j, needed, allowed = worst
     unit = limits.unit(quantity, j)
-    return InfeasibleError(
+    return _limit_error(
+        worst,
+        limits,
         f"{subject} needs joint {limits.names[j]!r} at {needed:.4g} {unit} ({quantity}), "
         f"limit {allowed:.4g} {unit}{context}",
-        limit=quantity,
-        joint=limits.names[j],
-        required=needed,
-        allowed=allowed,
+    )
+
+
+def _limit_error(
+    worst: tuple[str, int, float, float], limits: JointLimits, message: str
+) -> InfeasibleError:
+    """An InfeasibleError with ``message`` and the fields of ``worst``: quantity, joint, etc."""
+    quantity, j, needed, allowed = worst
+    return InfeasibleError(
+        message, limit=quantity, joint=limits.names[j], required=needed, allowed=allowed
     )
 
 
@@ -260,13 +268,11 @@ class _Polynomial(JointProfile):
             high *= 2.0
             if high > 1e4:
                 quantity, j, needed, allowed = failure
-                raise InfeasibleError(
+                raise _limit_error(
+                    failure,
+                    limits,
                     f"no {self.name} of any duration keeps joint {limits.names[j]!r} within its "
                     f"{quantity} limit ({needed:.4g} needed, {allowed:.4g} allowed)",
-                    limit=quantity,
-                    joint=limits.names[j],
-                    required=needed,
-                    allowed=allowed,
                 )
         low = high / 2.0 if high > 1e-3 else 0.0
         for _ in range(60):
