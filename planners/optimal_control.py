@@ -132,6 +132,7 @@ from planners.transcription import (
     Structure,
     compile_nlp,
     freeze_options,
+    jerk_step,
     parameter_vector,
     structure_limits,
     torque_linearization,
@@ -1289,14 +1290,11 @@ def _integrable(
     to_v = np.zeros((count + 1, count + 3))
     to_a = np.zeros((count + 1, count + 3))
     to_q[0, 0] = to_v[0, 1] = to_a[0, 2] = 1.0
+    jerk_rows = np.eye(count + 3)[3:]  # jerk k's coefficient row
     for k in range(count):
-        step = h[k]
-        to_a[k + 1] = to_a[k]
-        to_v[k + 1] = to_v[k] + step * to_a[k]
-        to_q[k + 1] = to_q[k] + step * to_v[k] + step**2 / 2.0 * to_a[k]
-        to_a[k + 1, 3 + k] += step
-        to_v[k + 1, 3 + k] += step**2 / 2.0
-        to_q[k + 1, 3 + k] += step**3 / 6.0
+        to_q[k + 1], to_v[k + 1], to_a[k + 1] = jerk_step(
+            h[k], to_q[k], to_v[k], to_a[k], jerk_rows[k]
+        )
     weight = np.ones(count + 1)
     weight[kept] = KEPT_NODE_WEIGHT
     square = weight[:, None] ** 2
@@ -1343,9 +1341,7 @@ def _trajectory(built: OptimalControlProblem, w: FloatArray) -> Trajectory:
         h = durations[k]
         u = jerk * jerks[k]
         coefficients[k] = (q, v, a / 2.0, u / 6.0)
-        q = q + h * v + h**2 / 2.0 * a + h**3 / 6.0 * u
-        v = v + h * a + h**2 / 2.0 * u
-        a = a + h * u
+        q, v, a = jerk_step(h, q, v, a, u)
         knots[k + 1] = knots[k] + h
     phases = [
         Phase(grid.name, float(knots[layout.first_node[i]]), float(knots[layout.first_node[i + 1]]))

@@ -73,6 +73,7 @@ __all__ = [
     "Structure",
     "compile_nlp",
     "freeze_options",
+    "jerk_step",
     "parameter_vector",
     "structure_limits",
     "thaw_options",
@@ -110,6 +111,20 @@ def parameter_vector(**values: Any) -> FloatArray:
     if values:
         raise ValueError(f"unknown parameters {sorted(values)}")
     return np.concatenate(parts)
+
+
+def jerk_step(h: Any, q: Any, v: Any, a: Any, u: Any) -> tuple[Any, Any, Any]:
+    """Position, velocity and acceleration after ``h`` [s] at constant jerk ``u``.
+
+    The exact triple-integrator step of the transcription, for NumPy arrays and CasADi
+    expressions alike: the NLP's dynamics rows, the solution's integration and the guess fit
+    all take it from here.
+    """
+    return (
+        q + h * v + h**2 / 2 * a + h**3 / 6 * u,
+        v + h * a + h**2 / 2 * u,
+        a + h * u,
+    )
 
 
 @dataclass(frozen=True)
@@ -440,13 +455,10 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
         q1, v1, a1 = state(k + 1)
         zu = w[layout.u_index(k)]
         u = jerk * zu
+        q_next, v_next, a_next = jerk_step(hk, q0, v0, a0, u)
         rows.add(
             "dynamics",
-            ca.vertcat(
-                (q1 - (q0 + hk * v0 + hk**2 / 2 * a0 + hk**3 / 6 * u)) / half,
-                (v1 - (v0 + hk * a0 + hk**2 / 2 * u)) / vel,
-                (a1 - (a0 + hk * u)) / acc,
-            ),
+            ca.vertcat((q1 - q_next) / half, (v1 - v_next) / vel, (a1 - a_next) / acc),
             0.0,
             0.0,
         )
