@@ -178,18 +178,20 @@ def table(tallies: dict[str, Tally], count: int) -> list[str]:
 def _timed(
     planner: OptimalControl, problem: problems.PoolStrike, **kwargs: Any
 ) -> dict[str, float]:
-    """Wall time [ms], NLP time [ms], iterations, motion time [s] and NLP variables of one
-    plan (NaN when it fails)."""
+    """Wall, contact choice, NLP and NLP function evaluation times [ms], iterations, motion
+    time [s] and NLP variables of one plan (NaN when it fails)."""
     started = time.perf_counter()
     try:
         traj = planner.plan(problem, **kwargs)
     except OptrajError:
-        keys = ("wall", "nlp", "iterations", "motion", "variables")
+        keys = ("wall", "contact", "nlp", "evaluation", "iterations", "motion", "variables")
         return dict.fromkeys(keys, math.nan)
     wall = 1e3 * (time.perf_counter() - started)
     return {
         "wall": wall,
+        "contact": 1e3 * traj.metadata["contact_time"],
         "nlp": 1e3 * traj.metadata["nlp_time"],
+        "evaluation": 1e3 * traj.metadata["evaluation_time"],
         "iterations": float(traj.metadata["iterations"]),
         "motion": traj.duration,
         "variables": float(traj.metadata["variables"]),
@@ -200,13 +202,21 @@ def _median_or_nan(values: list[float]) -> float:
     return statistics.median(values) if values else math.nan
 
 
-def _medians(runs: list[dict[str, float]]) -> tuple[str, str, str, str, str]:
+def _medians(runs: list[dict[str, float]]) -> tuple[str, ...]:
     def med(key: str, digits: int = 1) -> str:
         return _cell(_median_or_nan([r[key] for r in runs if math.isfinite(r[key])]), digits)
 
     walls = sorted(r["wall"] for r in runs if math.isfinite(r["wall"]))
     p95 = _cell(walls[min(len(walls) - 1, int(0.95 * len(walls)))], 1) if walls else "-"
-    return med("wall"), p95, med("nlp"), med("iterations"), med("motion", 3)
+    return (
+        med("wall"),
+        p95,
+        med("contact"),
+        med("nlp"),
+        med("evaluation"),
+        med("iterations"),
+        med("motion", 3),
+    )
 
 
 def weak_shoulder(shot: problems.PoolStrike) -> problems.PoolStrike:
@@ -286,14 +296,17 @@ def extra_sections(shots: list[problems.PoolStrike], quick: bool = False) -> lis
         "the start (`torque=True`), linear (the default) or symbolic RNEA, and torque limits "
         f"that bind (right_j0's effort at {WEAK_SHOULDER:g} of its rating, default "
         f'`torque="auto"`): timed like the cold row over {torque_over}; NLP time and '
-        "iterations are summed over every round. Wall time includes the contact choice (about "
-        "45 ms; about 1 ms from the warm start's branch) and every round; NLP time is IPOPT "
-        "alone. A kept branch may not be the one a cold plan picks (the one the arm reaches "
-        "soonest), so warm motions may take longer.",
+        "iterations are summed over every round. Wall time includes the contact choice (the "
+        "search, or one local IK on the warm start's branch; `contact_time`) and every round; "
+        "NLP time is the solver's (`nlp_time`), of which CasADi's evaluations of the NLP's "
+        "functions and derivatives are `evaluation_time`: the rest is IPOPT's own work, "
+        "mostly its sparse linear algebra. A kept branch may not be the one a cold plan picks "
+        "(the one the arm reaches soonest), so warm motions may take longer.",
         "",
-        "| run | median wall [ms] | p95 wall [ms] | median NLP [ms] | median iterations "
+        "| run | median wall [ms] | p95 wall [ms] | median contact choice [ms] "
+        "| median NLP [ms] | median NLP evaluations [ms] | median iterations "
         "| median motion [s] |",
-        "|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|",
     ]
     rows = (("cold", cold), ("first plan", first), ("warm", warm), *torque_runs.items())
     for label, runs in rows:

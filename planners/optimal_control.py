@@ -84,9 +84,11 @@ Warm starts
 Solve statistics
     ``plan`` sums over every solve it made: ``metadata["iterations"]`` and
     ``metadata["nlp_time"]`` [s] over all rounds (``round_iterations`` lists them, and
-    ``rounds`` counts them); ``warm_started`` tells whether the first solve started from a
-    previous solution's multipliers; ``status``, ``objective`` and ``constraint_violation``
-    are the last solve's.
+    ``rounds`` counts them), and ``evaluation_time`` [s], the part of ``nlp_time`` spent
+    evaluating the NLP's functions and derivatives (the rest is the solver's own work);
+    ``contact_time`` [s] is the wall time of the contact choice (0 for a move);
+    ``warm_started`` tells whether the first solve started from a previous solution's
+    multipliers; ``status``, ``objective`` and ``constraint_violation`` are the last solve's.
 
 Example::
 
@@ -314,6 +316,7 @@ class _Spec:
     contact_phase: int = -1
     contact: ContactChoice | None = None
     intervals: tuple[int, ...] | None = None  # grid forced by a warm start
+    contact_time: float = 0.0  # wall time of the contact choice [s]
 
 
 def _objective(objective: str | Mapping[str, float]) -> dict[str, float]:
@@ -523,21 +526,29 @@ class OptimalControl:
         failure: SolverError | None = None
         # Re-planning from a previous pool solution: first its contact branch, if it still
         # has room (one local IK instead of the search).
-        seeded = _contact_from(problem, warm_start) if self.reuse_contact else None
+        seeded = None
+        searching = 0.0  # the contact choices' wall time [s]
+        if self.reuse_contact and isinstance(problem, PoolStrike):
+            seeded = _contact_from(problem, warm_start)
+            searching = time.perf_counter() - started
         if seeded is not None:
             tried.append(seeded.q)
-            outcome = self._attempt(problem, seeded, warm_start, len(tried), started, True)
+            outcome = self._attempt(
+                problem, seeded, warm_start, len(tried), started, searching, True
+            )
             if isinstance(outcome, Trajectory):
                 return outcome
             if self.contact_retries == 0:
                 raise outcome  # the one configuration allowed
             failure, warm_start = outcome, None
         if not isinstance(problem, PoolStrike) or self.contact_retries == 0:
-            traj = self._plan(problem, self._spec(problem), warm_start)
-            return stamp(traj, self.name, started)
+            spec = self._spec(problem)
+            traj = self._plan(problem, spec, warm_start)
+            return stamp(traj, self.name, started, contact_time=searching + spec.contact_time)
         # The contact search once as set, then once more over twice as many candidates for
         # branches it missed; a warm start fits the first branch only.
         for candidates in (self.contact_candidates, 2 * self.contact_candidates):
+            searched = time.perf_counter()
             try:
                 choices = contact_choices(
                     problem, 1 + self.contact_retries, candidates=candidates, exclude=tried
@@ -546,10 +557,14 @@ class OptimalControl:
                 if failure is None:
                     raise
                 break  # the wider search refused what the first accepted: report the solver
+            finally:
+                searching += time.perf_counter() - searched
             for choice in choices:
                 tried.append(choice.q)
                 start = warm_start if len(tried) == 1 else None  # None after a seeded try
-                outcome = self._attempt(problem, choice, start, len(tried), started, False)
+                outcome = self._attempt(
+                    problem, choice, start, len(tried), started, searching, False
+                )
                 if isinstance(outcome, Trajectory):
                     return outcome
                 failure = outcome
@@ -564,9 +579,12 @@ class OptimalControl:
         warm_start: Trajectory | None,
         attempt: int,
         started: float,
+        searching: float,
         from_warm_start: bool,
     ) -> Trajectory | SolverError:
         """Plan a pool strike from the ``attempt``-th contact choice (counted from 1).
+
+        ``searching`` is the wall time of the contact choices so far [s].
 
         Returns:
             The trajectory, or the solver's error for the caller to try another choice.
@@ -577,7 +595,7 @@ class OptimalControl:
             return error
         traj.metadata["contact_attempts"] = attempt
         traj.metadata["contact_from_warm_start"] = from_warm_start
-        return stamp(traj, self.name, started)
+        return stamp(traj, self.name, started, contact_time=searching)
 
     def _plan(self, problem: Any, spec: _Spec, warm_start: Trajectory | None) -> Trajectory:
         """Solve from a spec: with no time term, free durations are first minimised."""
@@ -1068,6 +1086,7 @@ class OptimalControl:
                 "solver_status": status,
                 "iterations": iterations,
                 "nlp_time": wall,
+                "evaluation_time": _evaluation_time(stats),
                 "objective": float(result["f"]),
                 "constraint_violation": worst,
                 "warm_started": warm,
@@ -1096,12 +1115,17 @@ class OptimalControl:
             return _point_to_point(problem)
         if isinstance(problem, Waypoints):
             return _waypoints(problem)
-        if isinstance(problem, PoolStrike):
+        if isinstance(problem, (PoolStrike, PaddleStrike)):
+            started = time.perf_counter()
             choice = choose_contact(problem, candidates=self.contact_candidates)
-            return _pool(problem, choice)
-        if isinstance(problem, PaddleStrike):
-            choice = choose_contact(problem, candidates=self.contact_candidates)
-            return _paddle(problem, choice)
+            searched = time.perf_counter() - started
+            spec = (
+                _pool(problem, choice)
+                if isinstance(problem, PoolStrike)
+                else _paddle(problem, choice)
+            )
+            spec.contact_time = searched
+            return spec
         raise InvalidInputError(
             f"OptimalControl plans a PointToPoint, Waypoints, PoolStrike or PaddleStrike, got "
             f"{type(problem).__name__}",
@@ -1186,21 +1210,34 @@ def _casadi_reason(message: str) -> str:
 def _totals(traj: Trajectory, solves: list[Trajectory]) -> Trajectory:
     """Solve statistics of ``traj`` summed over ``solves`` (its own last among them).
 
-    ``iterations`` and ``nlp_time`` [s] count every solve a plan made; ``warm_started``
-    tells whether the first started from multipliers; ``round_iterations`` lists them.
+    ``iterations``, ``nlp_time`` and ``evaluation_time`` [s] count every solve a plan made;
+    ``warm_started`` tells whether the first started from multipliers; ``round_iterations``
+    lists them.
     """
     rounds = [
         count
         for t in solves
         for count in t.metadata.get("round_iterations", [int(t.metadata["iterations"])])
     ]
-    nlp_time = sum(float(t.metadata["nlp_time"]) for t in solves)
     last = traj.metadata
     last["round_iterations"] = rounds
     last["iterations"] = sum(rounds)
-    last["nlp_time"] = nlp_time
+    for key in ("nlp_time", "evaluation_time"):
+        last[key] = sum(float(t.metadata[key]) for t in solves)
     last["warm_started"] = bool(solves[0].metadata["warm_started"])
     return traj
+
+
+def _evaluation_time(stats: Mapping[str, Any]) -> float:
+    """Wall time [s] a CasADi solver spent evaluating the NLP's functions and derivatives.
+
+    The sum of the solver's ``t_wall_nlp_*`` statistics (objective, constraints, their
+    gradients and Jacobian, the Lagrangian's Hessian); the rest of a solve's time is the
+    solver's own (for IPOPT mostly its sparse linear algebra).
+    """
+    return float(
+        sum(float(v) for k, v in stats.items() if k.startswith("t_wall_nlp_") and v is not None)
+    )
 
 
 def _shrunk(shrink: FloatArray | None, excess: FloatArray, limits: JointLimits) -> FloatArray:

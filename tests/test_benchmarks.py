@@ -67,6 +67,15 @@ def test_strike_quick_run_writes_its_table(tmp_path, monkeypatch):
     solved = int(rows["optimal control (min time)"]["success"].split("/")[0])
     assert solved >= 3  # it chooses its own contact configuration
     assert all(f"| {run} |" in extras for run in ("cold", "first plan", "warm"))
+    lines = extras.splitlines()
+    runs = [
+        c.strip() for c in next(x for x in lines if x.startswith("| run |")).strip("|").split("|")
+    ]
+    cold = next(x for x in lines if x.startswith("| cold |"))
+    cells = dict(zip(runs, [c.strip() for c in cold.strip("|").split("|")], strict=True))
+    # The wall time's parts: the contact search, and the NLP's evaluations within its time.
+    assert 0.0 < float(cells["median contact choice [ms]"]) < float(cells["median wall [ms]"])
+    assert 0.0 < float(cells["median NLP evaluations [ms]"]) < float(cells["median NLP [ms]"])
     seed = rows["seed (pull back + line)"]
     assert seed["success"].startswith("0/4") and "acceleration 4" in seed["checker failures"]
     assert seed["errors"] == "-"

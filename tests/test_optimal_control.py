@@ -405,6 +405,21 @@ def test_build_and_solve_apart():
         assert key in traj.metadata
 
 
+def test_solve_statistics_split_the_plan_time():
+    problem = problems.sawyer_pool_shot(1.0, ball=(0.75, 0.15, -0.05))
+    traj = OptimalControl("jerk").plan(problem)  # min time first, then min jerk: two solves
+    meta = traj.metadata
+    assert len(meta["round_iterations"]) >= 2
+    # Evaluating the NLP's functions is part of the solves' time, the contact choice is not,
+    # and both lie within the plan's.
+    assert 0.0 < meta["evaluation_time"] < meta["nlp_time"]
+    assert meta["contact_time"] > 0.0
+    assert meta["contact_time"] + meta["nlp_time"] < meta["solve_time"]
+    youbot = get_robot("youbot")
+    move = problems.PointToPoint(youbot, youbot.home, youbot.home + 0.2)
+    assert OptimalControl("time").plan(move).metadata["contact_time"] == 0.0
+
+
 def test_a_sampled_guess_is_fitted_to_the_dynamics_rows():
     planner = OptimalControl("time")
     built = planner.build(next(_shots(1, speed=1.0)))
