@@ -119,7 +119,7 @@ from optraj.errors import (
     SolverError,
     UnknownNameError,
 )
-from optraj.validation import as_count, as_positive
+from optraj.validation import as_array, as_count, as_positive
 from planners.base import stamp
 from planners.checker import RELATIVE_SLACK
 from planners.contact import ContactChoice, choose_contact, contact_choices, contact_near
@@ -183,6 +183,9 @@ STRIKE_GRID_WEIGHT = 1.0
 MIN_INTERVAL = 1e-4
 #: Most intervals of a strike phase after refinement.
 MAX_STRIKE_INTERVALS = 120
+#: Most intervals a phase may have: far more than any strike or move needs (the defaults give
+#: 5 to 60), and an NLP that a solver takes minutes over; a grid past it is refused.
+MAX_PHASE_INTERVALS = 400
 #: Rounds that move node position bounds in before position rows come in.
 POSITION_SHRINKS = 3
 #: Extra room a moved node bound keeps beyond the excess it answers [rad or m].
@@ -333,8 +336,8 @@ def _objective(objective: str | Mapping[str, float]) -> dict[str, float]:
     for key, value in objective.items():
         if key not in OBJECTIVES:
             raise UnknownNameError("objective term", str(key), OBJECTIVES)
-        weight = float(value)
-        if not np.isfinite(weight) or weight < 0.0:
+        weight = float(as_array(value, f"objective weight {key!r}", ()))
+        if weight < 0.0:
             raise InvalidInputError(
                 f"objective weight {key!r} must be finite and >= 0, got {value!r}",
                 name="objective",
@@ -367,7 +370,8 @@ class OptimalControl:
         solver_options: Options passed to ``casadi.nlpsol`` (they override the defaults).
         intervals: Intervals per phase: an int for every phase or a mapping from phase name;
             chosen from ``step`` when None.
-        step: Target interval length of the approach and stop phases [s].
+        step: Target interval length of the approach and stop phases [s]; the interval
+            count it gives a phase is kept within 5 to 60 (set ``intervals`` for others).
         strike_step: Target interval length of a strike window [s].
         max_interval: Longest interval a free phase may stretch to [s].
         margin: Fraction of the velocity, acceleration and jerk limits kept free [-].
@@ -428,6 +432,12 @@ class OptimalControl:
         self.weights = _objective(objective)
         self.objective = objective if isinstance(objective, str) else dict(self.weights)
         self.solver = _solver_name(solver)
+        if solver_options is not None and not isinstance(solver_options, Mapping):
+            raise InvalidInputError(
+                f"solver_options must be a mapping of option names to values, got "
+                f"{solver_options!r}",
+                name="solver_options",
+            )
         self.solver_options = dict(solver_options or {})
         if intervals is not None and not isinstance(intervals, Mapping):
             intervals = as_count(intervals, "intervals", 1)
@@ -437,17 +447,25 @@ class OptimalControl:
         self.step = as_positive(step, "step", "s")
         self.strike_step = as_positive(strike_step, "strike_step", "s")
         self.max_interval = as_positive(max_interval, "max_interval", "s")
+        if self.max_interval <= MIN_INTERVAL:
+            raise InvalidInputError(
+                f"max_interval must be > {MIN_INTERVAL:g} s (the shortest interval), got "
+                f"{self.max_interval:.6g} s",
+                name="max_interval",
+            )
         for name, value in (("margin", margin), ("torque_margin", torque_margin)):
-            if not 0.0 <= float(value) < 0.5:
+            if not 0.0 <= float(as_array(value, name, ())) < 0.5:
                 raise InvalidInputError(f"{name} must be in [0, 0.5), got {value!r}", name=name)
         self.margin = float(margin)
         self.torque_margin = float(torque_margin)
-        if torque not in ("auto", True, False):
+        if not (isinstance(torque, bool) or (isinstance(torque, str) and torque == "auto")):
             raise InvalidInputError(
                 f"torque must be 'auto', True or False, got {torque!r}", name="torque"
             )
         self.torque = torque
-        if position_rows not in ("auto", True):
+        if not (
+            position_rows is True or (isinstance(position_rows, str) and position_rows == "auto")
+        ):
             raise InvalidInputError(
                 f"position_rows must be 'auto' or True, got {position_rows!r}",
                 name="position_rows",
@@ -456,18 +474,21 @@ class OptimalControl:
         if torque_rows not in TORQUE_ROWS:
             raise UnknownNameError("torque rows", torque_rows, TORQUE_ROWS)
         self.torque_rows = torque_rows
-        self.regularization = float(regularization)
-        if not np.isfinite(self.regularization) or self.regularization < 0.0:
+        self.regularization = float(as_array(regularization, "regularization", ()))
+        if self.regularization < 0.0:
             raise InvalidInputError(
                 f"regularization must be >= 0, got {regularization!r}", name="regularization"
             )
-        self.stretch = float(stretch)
-        if not np.isfinite(self.stretch) or self.stretch < 1.0:
+        self.stretch = float(as_array(stretch, "stretch", ()))
+        if self.stretch < 1.0:
             raise InvalidInputError(f"stretch must be >= 1, got {stretch!r}", name="stretch")
         self.max_iterations = as_count(max_iterations, "max_iterations", 1)
         self.tolerance = as_positive(tolerance, "tolerance")
         self.contact_candidates = as_count(contact_candidates, "contact_candidates", 1)
         self.contact_retries = as_count(contact_retries, "contact_retries", 0)
+        for name, flag in (("free_grid", free_grid), ("reuse_contact", reuse_contact)):
+            if not isinstance(flag, (bool, np.bool_)):
+                raise InvalidInputError(f"{name} must be True or False, got {flag!r}", name=name)
         self.free_grid = bool(free_grid)
         self.reuse_contact = bool(reuse_contact)
         self._compiled: dict[Structure, CompiledNLP] = {}
@@ -522,6 +543,7 @@ class OptimalControl:
             InvalidInputError: An unsupported problem.
         """
         started = time.perf_counter()
+        warm_start = _checked_warm_start(problem, warm_start)
         tried: list[FloatArray] = []
         failure: SolverError | None = None
         # Re-planning from a previous pool solution: first its contact branch, if it still
@@ -619,6 +641,7 @@ class OptimalControl:
         the first round's: positions bounded at the nodes only (:meth:`plan` checks them
         between nodes and solves again with the rows when one passes its limit).
         """
+        warm_start = _checked_warm_start(problem, warm_start)
         spec = self._spec(problem)
         return self._build(problem, spec, self._weights(spec), (), None, warm_start)
 
@@ -628,6 +651,11 @@ class OptimalControl:
         Raises:
             SolverError: The solver failed (status, iterations, most violated group).
         """
+        if not isinstance(built, OptimalControlProblem):
+            raise InvalidInputError(
+                f"solve takes the OptimalControlProblem of build(), got {type(built).__name__}",
+                name="built",
+            )
         started = time.perf_counter()
         traj = self._solve(built)
         return stamp(traj, self.name, started)
@@ -826,6 +854,13 @@ class OptimalControl:
                     count = max(count, int(5 * np.ceil(1.25 * guess / self.max_interval / 5.0)))
             if index == spec.strike_phase and strike_scale > 1:
                 count = min(count * strike_scale, MAX_STRIKE_INTERVALS)
+            if count > MAX_PHASE_INTERVALS:
+                raise InvalidInputError(
+                    f"phase {name!r} would need {count} intervals (its first guess lasts "
+                    f"{guess:.3g} s, max_interval is {self.max_interval:.3g} s), more than "
+                    f"{MAX_PHASE_INTERVALS}: raise max_interval or set fewer intervals",
+                    name="max_interval" if spec.intervals is None else "intervals",
+                )
             upper = count * self.max_interval if fixed is None else fixed
             if fixed is None and upper < guess:
                 guess = upper
@@ -876,7 +911,16 @@ class OptimalControl:
             model = self._models.get(robot.name)
             if model is None:
                 model = self._models[robot.name] = SymbolicModel(robot)
-        compiled = compile_nlp(structure, model)
+        try:
+            compiled = compile_nlp(structure, model)
+        except RuntimeError as error:
+            if not self.solver_options:
+                raise
+            raise InvalidInputError(
+                f"solver_options {self.solver_options!r} were refused by the {self.solver} "
+                f"plugin: {_casadi_reason(str(error))}",
+                name="solver_options",
+            ) from error
         with self._lock:
             return self._compiled.setdefault(structure, compiled)
 
@@ -1505,6 +1549,24 @@ def _waypoints(problem: Waypoints) -> _Spec:
         for d in (fixed_durations if fixed_durations is not None else [None] * len(names))
     )
     return _Spec(problem.robot, limits, tuple(names), durations, guess, fixed)
+
+
+def _checked_warm_start(problem: Any, warm_start: Any) -> Trajectory | None:
+    """``warm_start`` checked against the problem: None, or a Trajectory of its joints."""
+    if warm_start is None:
+        return None
+    if not isinstance(warm_start, Trajectory):
+        raise InvalidInputError(
+            f"warm_start must be a planners.Trajectory or None, got {type(warm_start).__name__}",
+            name="warm_start",
+        )
+    limits = getattr(problem, "limits", None)
+    if isinstance(limits, JointLimits) and warm_start.dof != limits.n:
+        raise InvalidInputError(
+            f"warm_start moves {warm_start.dof} joints; the problem's robot has {limits.n}",
+            name="warm_start",
+        )
+    return warm_start
 
 
 def _contact_from(problem: PoolStrike, warm_start: Trajectory | None) -> ContactChoice | None:

@@ -296,6 +296,13 @@ def _calculate(inp: ruckig.InputParameter, limits: JointLimits) -> ruckig.Trajec
         result = _calculator(limits.n).calculate(inp, native)
     except (ruckig.RuckigError, RuntimeError) as exc:  # RuckigError is a bare Exception
         raise _ruckig_error(exc, limits) from exc
+    except ValueError as exc:  # a status the binding's Result enum lacks, e.g. -101
+        raise SolverError(
+            "ruckig",
+            str(exc).split()[0],
+            detail="Ruckig returned a status its Python binding does not name (-101: the "
+            "duration exceeds Ruckig's numerical range, about 7.6e3 s)",
+        ) from exc
     if result not in _GOOD:
         raise SolverError(
             "ruckig",

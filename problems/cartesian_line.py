@@ -52,6 +52,8 @@ class CartesianLine:
         set_(self, "limits", limits)
         set_(self, "T_start", start)
         set_(self, "T_goal", goal)
+        for name, unit in (("position_tolerance", "m"), ("angle_tolerance", "rad")):
+            set_(self, name, positive(getattr(self, name), name, unit))
         if self.q_start is None:
             q_start = solve_ik(robot, start).q
         else:

@@ -40,7 +40,8 @@ def positive(value: float, name: str, unit: str) -> float:
     """``value`` as a finite float > 0, or a typed error naming it."""
     number = float(as_array(value, name, ()))
     if number <= 0.0:
-        raise InvalidInputError(f"{name} must be > 0 {unit}, got {number:.6g} {unit}", name=name)
+        unit = f" {unit}" if unit else ""
+        raise InvalidInputError(f"{name} must be > 0{unit}, got {number:.6g}{unit}", name=name)
     return number
 
 
@@ -48,7 +49,8 @@ def non_negative(value: float, name: str, unit: str) -> float:
     """``value`` as a finite float >= 0, or a typed error naming it."""
     number = float(as_array(value, name, ()))
     if number < 0.0:
-        raise InvalidInputError(f"{name} must be >= 0 {unit}, got {number:.6g} {unit}", name=name)
+        unit = f" {unit}" if unit else ""
+        raise InvalidInputError(f"{name} must be >= 0{unit}, got {number:.6g}{unit}", name=name)
     return number
 
 

@@ -65,6 +65,12 @@ class PaddleStrike:
         set_(self, "contact_angle", float(as_array(self.contact_angle, "contact_angle", ())))
         set_(self, "speed", non_negative(self.speed, "speed", "m/s"))
         set_(self, "contact_time", positive(self.contact_time, "contact_time", "s"))
+        for name, unit in (
+            ("position_tolerance", "m"),
+            ("angle_tolerance", "rad"),
+            ("velocity_tolerance", "m/s"),
+        ):
+            set_(self, name, positive(getattr(self, name), name, unit))
         q_start, _, _ = joint_state(
             limits, robot.home if self.q_start is None else self.q_start, None, None, "start"
         )

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 from numpy.typing import ArrayLike
 
-from problems.common import check_robot, joint_state, positive, resolve_limits
+from problems.common import check_robot, joint_state, non_negative, positive, resolve_limits
 from problems.constraints import BoundaryState, Constraint
 from robots import JointLimits, Robot
 
@@ -60,6 +60,7 @@ class PointToPoint:
             set_(self, name, value)
         if self.duration is not None:
             set_(self, "duration", positive(self.duration, "duration", "s"))
+        set_(self, "tolerance", non_negative(self.tolerance, "tolerance", ""))
 
     def constraints(self) -> tuple[Constraint, ...]:
         """Start and goal states."""

@@ -61,6 +61,7 @@ class Waypoints:
             set_(self, "segment_durations", durations)
         if self.via_tolerance is not None:
             set_(self, "via_tolerance", non_negative(self.via_tolerance, "via_tolerance", "rad"))
+        set_(self, "tolerance", non_negative(self.tolerance, "tolerance", ""))
         joint_state(limits, points[0], None, None, "start")
 
     def constraints(self) -> tuple[Constraint, ...]:

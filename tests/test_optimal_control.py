@@ -584,11 +584,37 @@ def test_sqpmethod_plans_a_small_move_with_nested_solver_options():
         ({"stretch": 0.5}, "stretch"),
         ({"intervals": 0}, "intervals"),
         ({"step": -0.1}, "step"),
+        ({"objective": {"time": "abc"}}, "objective weight 'time'"),
+        ({"objective": {"time": True}}, "objective weight 'time'"),
+        ({"margin": False}, "margin"),
+        ({"torque": 0.0}, "torque"),
+        ({"position_rows": 1}, "position_rows"),
+        ({"regularization": None}, "regularization"),
+        ({"free_grid": "no"}, "free_grid"),
+        ({"solver_options": 5}, "solver_options"),
+        ({"max_interval": 1e-6}, "max_interval must be > 0.0001 s"),
     ],
 )
 def test_bad_options_raise_typed_errors(kwargs, name):
     with pytest.raises((InvalidInputError, UnknownNameError), match=name):
         OptimalControl(**kwargs)
+
+
+def test_bad_plan_inputs_are_named_before_any_solve():
+    move = _paddle_move()
+    sawyer = get_robot("sawyer")
+    other = OptimalControl().plan(problems.PointToPoint(sawyer, sawyer.home, sawyer.home + 0.1))
+    with pytest.raises(InvalidInputError, match=r"warm_start must be a planners\.Trajectory"):
+        OptimalControl().plan(move, warm_start="abc")
+    with pytest.raises(InvalidInputError, match=r"warm_start moves 7 joints; .* has 4"):
+        OptimalControl().plan(move, warm_start=other)
+    with pytest.raises(InvalidInputError, match="OptimalControlProblem of build"):
+        OptimalControl().solve(None)
+    with pytest.raises(InvalidInputError, match=r"solver_options .* No such IPOPT option: bogus"):
+        OptimalControl(solver_options={"ipopt.bogus": 1}).plan(move)
+    # A grid finer than any solve can take is refused, not built.
+    with pytest.raises(InvalidInputError, match=r"phase 'move' would need \d+ intervals"):
+        OptimalControl(max_interval=2e-4).plan(move)
 
 
 def test_an_unsupported_problem_is_named():

@@ -34,6 +34,8 @@ def test_strike_at_speed_has_a_velocity_along_the_normal():
         ({"ball": (1.3, 0.0, 0.3)}, WorkspaceError, "x <= 1.1"),
         ({"speed": -1.0}, InvalidInputError, "speed must be >= 0"),
         ({"contact_time": 0.0}, InvalidInputError, "contact_time must be > 0 s"),
+        ({"velocity_tolerance": None}, InvalidInputError, "velocity_tolerance must be a numeric"),
+        ({"angle_tolerance": -1e-6}, InvalidInputError, "angle_tolerance must be > 0 rad"),
         ({"robot": "sawyer"}, InvalidInputError, "robots.Robot"),
     ],
 )

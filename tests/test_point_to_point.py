@@ -33,6 +33,8 @@ def test_defaults_are_rest_and_constraints_are_the_two_states():
         ({"q_goal": [0.5, np.nan, 0, 0]}, InvalidInputError, "finite"),
         ({"q_goal": [0.5, 0.0]}, InvalidInputError, r"shape \(4,\)"),
         ({"duration": 0.0}, InvalidInputError, "duration must be > 0 s"),
+        ({"tolerance": -1.0}, InvalidInputError, "tolerance must be >= 0, got -1"),
+        ({"tolerance": True}, InvalidInputError, "tolerance must be a numeric"),
         ({"robot": "paddle4"}, InvalidInputError, "robots.Robot"),
     ],
 )

@@ -663,3 +663,12 @@ def test_plans_pickle_without_ruckigs_own_object():
     np.testing.assert_array_equal(clone.sample(t).q, traj.sample(t).q)
     assert "native" not in clone.metadata and "native" in traj.metadata
     assert clone.metadata["planner"] == traj.metadata["planner"]
+
+
+def test_a_duration_beyond_ruckigs_range_is_a_solver_error():
+    limits = get_robot("paddle4").limits
+    start, goal = np.zeros(4), np.array([0.5, 0.1, 0.2, 0.0])
+    # Ruckig answers -101 (its duration range ends near 7.6e3 s), a status its Python
+    # binding has no name for.
+    with pytest.raises(SolverError, match="-101"):
+        state_to_state(start, None, None, goal, None, None, limits, minimum_duration=1e4)
