@@ -454,10 +454,10 @@ class OptimalControl:
                 name="max_interval",
             )
         for name, value in (("margin", margin), ("torque_margin", torque_margin)):
-            if not 0.0 <= float(as_array(value, name, ())) < 0.5:
+            fraction = float(as_array(value, name, ()))
+            if not 0.0 <= fraction < 0.5:
                 raise InvalidInputError(f"{name} must be in [0, 0.5), got {value!r}", name=name)
-        self.margin = float(margin)
-        self.torque_margin = float(torque_margin)
+            setattr(self, name, fraction)
         if not (isinstance(torque, bool) or (isinstance(torque, str) and torque == "auto")):
             raise InvalidInputError(
                 f"torque must be 'auto', True or False, got {torque!r}", name="torque"

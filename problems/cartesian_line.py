@@ -9,7 +9,7 @@ from numpy.typing import ArrayLike
 
 from optraj.errors import InvalidInputError
 from optraj.validation import as_transform, as_vector
-from problems.common import check_robot, positive, resolve_limits
+from problems.common import check_robot, positive, positive_fields, resolve_limits
 from problems.constraints import BoundaryState, Constraint, ToolPath
 from robots import JointLimits, Robot, solve_ik
 
@@ -52,8 +52,7 @@ class CartesianLine:
         set_(self, "limits", limits)
         set_(self, "T_start", start)
         set_(self, "T_goal", goal)
-        for name, unit in (("position_tolerance", "m"), ("angle_tolerance", "rad")):
-            set_(self, name, positive(getattr(self, name), name, unit))
+        positive_fields(self, {"position_tolerance": "m", "angle_tolerance": "rad"})
         if self.q_start is None:
             q_start = solve_ik(robot, start).q
         else:

@@ -15,6 +15,7 @@ __all__ = [
     "non_negative",
     "normal_pair",
     "positive",
+    "positive_fields",
     "resolve_limits",
     "unit_vector",
 ]
@@ -43,6 +44,15 @@ def positive(value: float, name: str, unit: str) -> float:
         unit = f" {unit}" if unit else ""
         raise InvalidInputError(f"{name} must be > 0{unit}, got {number:.6g}{unit}", name=name)
     return number
+
+
+def positive_fields(problem: object, units: dict[str, str]) -> None:
+    """Set each named field of a frozen problem to its value as :func:`positive` checks it.
+
+    ``units`` maps field names to their units, for the message.
+    """
+    for name, unit in units.items():
+        object.__setattr__(problem, name, positive(getattr(problem, name), name, unit))
 
 
 def non_negative(value: float, name: str, unit: str) -> float:

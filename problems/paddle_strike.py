@@ -8,7 +8,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from optraj.validation import as_array, as_vector
-from problems.common import check_robot, joint_state, non_negative, positive, resolve_limits
+from problems.common import (
+    check_robot,
+    joint_state,
+    non_negative,
+    positive,
+    positive_fields,
+    resolve_limits,
+)
 from problems.constraints import BoundaryState, Constraint, ToolContact
 from robots import JointLimits, Robot, paddle4_ik
 from robots.paddle_ik import BALL_OFFSET
@@ -65,12 +72,9 @@ class PaddleStrike:
         set_(self, "contact_angle", float(as_array(self.contact_angle, "contact_angle", ())))
         set_(self, "speed", non_negative(self.speed, "speed", "m/s"))
         set_(self, "contact_time", positive(self.contact_time, "contact_time", "s"))
-        for name, unit in (
-            ("position_tolerance", "m"),
-            ("angle_tolerance", "rad"),
-            ("velocity_tolerance", "m/s"),
-        ):
-            set_(self, name, positive(getattr(self, name), name, unit))
+        positive_fields(
+            self, {"position_tolerance": "m", "angle_tolerance": "rad", "velocity_tolerance": "m/s"}
+        )
         q_start, _, _ = joint_state(
             limits, robot.home if self.q_start is None else self.q_start, None, None, "start"
         )

@@ -14,6 +14,7 @@ from problems.common import (
     joint_state,
     non_negative,
     positive,
+    positive_fields,
     resolve_limits,
     unit_vector,
 )
@@ -91,12 +92,10 @@ class PoolStrike:
                 name="run_up",
             )
         radius = non_negative(self.ball_radius, "ball_radius", "m")
-        for name, unit in (
-            ("position_tolerance", "m"),
-            ("speed_tolerance", "(relative)"),
-            ("angle_tolerance", "rad"),
-        ):
-            object.__setattr__(self, name, positive(getattr(self, name), name, unit))
+        positive_fields(
+            self,
+            {"position_tolerance": "m", "speed_tolerance": "(relative)", "angle_tolerance": "rad"},
+        )
         q_start, _, _ = joint_state(
             limits, robot.home if self.q_start is None else self.q_start, None, None, "start"
         )
