@@ -59,6 +59,10 @@ FloatArray = NDArray[np.float64]
 
 _WORLD_ALIGNED = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
+#: Longest lever :func:`twist_ratio` takes from the tool origin [m]: several times the length
+#: of any arm here, so more is a unit mistake (and near 1e150 m the lever's products overflow).
+MAX_OFFSET = 10.0
+
 #: Singular values below this fraction of the largest count as zero in the task rows.
 _RANK_TOLERANCE = 1e-10
 #: A joint whose column of the task rows is shorter than this fraction of the longest one
@@ -432,7 +436,8 @@ def twist_ratio(
         q: Configuration [rad or m], shape (n,).
         direction: Direction of the point's velocity, shape (3,) (normalised here).
         speed: Point speed [m/s], >= 0.
-        offset: Distance of the point from the tool origin along the tool z axis [m].
+        offset: Distance of the point from the tool origin along the tool z axis [m], at most
+            :data:`MAX_OFFSET` either way.
         align_axis: Forbid turning across ``direction`` (pool cue); False leaves the angular
             velocity free (paddle).
         limits: Limits whose velocity limits [rad/s or m/s] are used; the robot's when None.
@@ -444,7 +449,8 @@ def twist_ratio(
         ``(inf, NaNs, -1)`` at a singular configuration that cannot give the motion at all.
 
     Raises:
-        InvalidInputError: Malformed robot, q, direction, speed, offset or limits.
+        InvalidInputError: Malformed robot, q, direction, speed, offset or limits. q need not
+            lie within the position limits: the ratio is a property of the kinematics.
         SolverError: HiGHS fails (not expected: the LP is always feasible and bounded).
     """
     if not isinstance(robot, Robot):
@@ -457,6 +463,12 @@ def twist_ratio(
     if speed_value < 0.0:
         raise InvalidInputError(f"speed must be >= 0 m/s, got {speed_value:.6g} m/s", name="speed")
     offset_value = float(as_array(offset, "offset", ()))
+    if abs(offset_value) > MAX_OFFSET:
+        raise InvalidInputError(
+            f"offset must be within +-{MAX_OFFSET:g} m of the tool origin, got "
+            f"{offset_value:.6g} m",
+            name="offset",
+        )
     used = robot.limits if limits is None else limits
     if not isinstance(used, JointLimits) or used.names != robot.joint_names:
         raise InvalidInputError(
@@ -718,7 +730,7 @@ def contact_choices(
     candidates: int = 16,
     seed: int = 0,
     margin: float = 0.0,
-    exclude: Sequence[FloatArray] = (),
+    exclude: Sequence[ArrayLike] | None = (),
 ) -> tuple[ContactChoice, ...]:
     """The best ``count`` distinct contact configurations, in :func:`choose_contact`'s order.
 
@@ -734,7 +746,7 @@ def contact_choices(
         margin: As :func:`choose_contact`.
         exclude: Pool: configurations already tried [rad], each shape (n,); choices on their
             branches (within 0.1 rad on every joint) are left out, so the result may be
-            empty.
+            empty. None excludes nothing.
 
     Raises:
         InfeasibleError, InvalidInputError, SolverError: As :func:`choose_contact`.
@@ -747,7 +759,7 @@ def contact_choices(
     if not 0.0 <= reserve < 1.0:
         raise InvalidInputError(f"margin must be in [0, 1), got {reserve:.6g}", name="margin")
     if isinstance(problem, PoolStrike):
-        tried = [as_vector(q, "exclude", problem.limits.n) for q in exclude]
+        tried = _configurations(exclude, "exclude", problem.limits.n)
         return tuple(_rank_pool(problem, searched, int(seed), reserve, wanted, tried))
     if isinstance(problem, PaddleStrike):
         return (_choose_paddle(problem, reserve),)
@@ -854,6 +866,19 @@ def _pool_choice(problem: PoolStrike, window: _Window, evaluated: int) -> Contac
     )
 
 
+def _configurations(value: Sequence[ArrayLike] | None, name: str, n: int) -> list[FloatArray]:
+    """``value`` as a list of configurations of n joints; None is none."""
+    if value is None:
+        return []
+    array = np.asarray(value, dtype=object)
+    if array.ndim == 0 or isinstance(value, (str, bytes)):
+        raise InvalidInputError(
+            f"{name} must be a sequence of configurations of {n} joints, got {value!r}",
+            name=name,
+        )
+    return [as_vector(q, f"{name}[{k}]", n) for k, q in enumerate(value)]
+
+
 def contact_near(problem: PoolStrike, q: ArrayLike, *, margin: float = 0.0) -> ContactChoice | None:
     """The pool contact configuration on the IK branch of q, if it has room to spare.
 
@@ -866,11 +891,12 @@ def contact_near(problem: PoolStrike, q: ArrayLike, *, margin: float = 0.0) -> C
 
     Args:
         problem: The pool strike.
-        q: A previous contact configuration [rad], shape (n,).
+        q: A previous contact configuration [rad], shape (n,), within the position limits.
         margin: As :func:`choose_contact`.
 
     Raises:
         InvalidInputError: Not a pool strike, or bad ``q`` or ``margin``.
+        JointLimitError: A joint of ``q`` outside its position limits.
     """
     if not isinstance(problem, PoolStrike):
         raise InvalidInputError(
@@ -878,6 +904,7 @@ def contact_near(problem: PoolStrike, q: ArrayLike, *, margin: float = 0.0) -> C
             name="problem",
         )
     seed = as_vector(q, "q", problem.limits.n)
+    problem.limits.check_position(seed, context="contact_near q")
     reserve = float(as_array(margin, "margin", ()))
     if not 0.0 <= reserve < 1.0:
         raise InvalidInputError(f"margin must be in [0, 1), got {reserve:.6g}", name="margin")

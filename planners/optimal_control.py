@@ -123,6 +123,7 @@ from optraj.validation import as_array, as_count, as_positive
 from planners.base import stamp
 from planners.checker import RELATIVE_SLACK
 from planners.contact import ContactChoice, choose_contact, contact_choices, contact_near
+from planners.lower_bound import joint_min_durations
 from planners.ruckig_planner import state_to_state, stop
 from planners.strike import strike_line
 from planners.time_scaling import quintic_coefficients
@@ -146,6 +147,7 @@ from robots.paddle_ik import BALL_OFFSET
 
 __all__ = [
     "OBJECTIVES",
+    "PHASE_NAMES",
     "SOLVERS",
     "OptimalControl",
     "OptimalControlProblem",
@@ -183,6 +185,8 @@ STRIKE_GRID_WEIGHT = 1.0
 MIN_INTERVAL = 1e-4
 #: Most intervals of a strike phase after refinement.
 MAX_STRIKE_INTERVALS = 120
+#: The phases of the problems planned here (a Waypoints problem's are "segment 1", ...).
+PHASE_NAMES = ("move", "approach", "strike", "stop")
 #: Most intervals a phase may have: far more than any strike or move needs (the defaults give
 #: 5 to 60), and an NLP that a solver takes minutes over; a grid past it is refused.
 MAX_PHASE_INTERVALS = 400
@@ -368,8 +372,9 @@ class OptimalControl:
         objective: ``"time"``, ``"jerk"``, ``"effort"``, or a mapping of weights.
         solver: CasADi NLP plugin (:data:`SOLVERS`); IPOPT by default.
         solver_options: Options passed to ``casadi.nlpsol`` (they override the defaults).
-        intervals: Intervals per phase: an int for every phase or a mapping from phase name;
-            chosen from ``step`` when None.
+        intervals: Intervals per phase: an int for every phase or a mapping from phase name
+            (:data:`PHASE_NAMES`, or ``"segment <k>"`` of a :class:`problems.Waypoints`);
+            chosen from ``step`` for the phases it does not name, or all when None.
         step: Target interval length of the approach and stop phases [s]; the interval
             count it gives a phase is kept within 5 to 60 (set ``intervals`` for others).
         strike_step: Target interval length of a strike window [s].
@@ -442,6 +447,13 @@ class OptimalControl:
         if intervals is not None and not isinstance(intervals, Mapping):
             intervals = as_count(intervals, "intervals", 1)
         elif isinstance(intervals, Mapping):
+            for key in intervals:
+                if not (key in PHASE_NAMES or re.fullmatch(r"segment [1-9][0-9]*", str(key))):
+                    raise InvalidInputError(
+                        f"intervals names a phase {key!r} that no problem has; phases are "
+                        f"{', '.join(PHASE_NAMES)} and 'segment <k>' (Waypoints, from 1)",
+                        name="intervals",
+                    )
             intervals = {str(k): as_count(v, f"intervals[{k!r}]", 1) for k, v in intervals.items()}
         self.intervals = intervals
         self.step = as_positive(step, "step", "s")
@@ -713,7 +725,8 @@ class OptimalControl:
             solves.append(traj)
             ratios = self._torque_ratios(traj, spec)
             more = [] if self.torque is False else self._torque_nodes(traj, ratios, built)
-            strike_ok = self._strike_ok(traj, problem, spec)
+            misses = self._strike_misses(traj, problem, spec)
+            strike_ok = not misses
             excess = None if position_rows else _position_excess(traj, spec.limits)
             positions_ok = excess is None or not excess.any()
             if not more and strike_ok and positions_ok:
@@ -729,6 +742,9 @@ class OptimalControl:
             elif not positions_ok:  # it does not settle: rows from now on
                 position_rows, shrink = True, None
             if not strike_ok:  # a finer strike grid renumbers the nodes
+                strike_intervals = built.compiled.structure.intervals[spec.strike_phase]
+                if strike_intervals >= MAX_STRIKE_INTERVALS:
+                    break  # no finer grid to try
                 strike_scale *= 2
                 torque_nodes, row_margins, expansions = (), None, 0
                 shrink, shrinks = None, 0
@@ -755,16 +771,28 @@ class OptimalControl:
             limit = float(spec.limits.effort[j])
             raise InfeasibleError(
                 f"torque of {joint} stays at {value:.4g} N m (limit {limit:.4g}) after "
-                f"{ROUNDS} rounds of torque rows",
+                f"{round_} rounds of torque rows",
                 limit="effort",
                 joint=joint,
                 required=value,
                 allowed=limit,
             )
+        if not misses:
+            unsettled = "position limits" if not positions_ok else "torque rows"
+            raise SolverError(
+                self.solver, f"{unsettled} not settled", detail=f"after {round_} rounds"
+            )
+        what = "; ".join(
+            f"{name} {value:.3g} {unit} (plans keep it within {allowed:.3g} {unit}, half the "
+            f"tolerance)"
+            for name, value, allowed, unit in misses
+        )
+        intervals = built.compiled.structure.intervals[spec.strike_phase]
         raise SolverError(
             self.solver,
             "strike line not met between nodes",
-            detail=f"after {ROUNDS} refinements of the strike grid",
+            detail=f"with {intervals} strike intervals after {round_} rounds: {what}; a looser "
+            f"tolerance or a faster strike (a shorter window) may pass",
         )
 
     @staticmethod
@@ -807,10 +835,18 @@ class OptimalControl:
         existing = set(built.compiled.structure.torque_nodes)
         return sorted(nodes - existing) or sorted(nodes)
 
-    def _strike_ok(self, traj: Trajectory, problem: Any, spec: _Spec) -> bool:
-        """Whether the cue tip stays on its schedule between the strike nodes."""
+    def _strike_misses(
+        self, traj: Trajectory, problem: Any, spec: _Spec
+    ) -> list[tuple[str, float, float, str]]:
+        """Where the cue tip leaves its schedule between the strike nodes.
+
+        Returns:
+            ``(what, worst, allowed, unit)`` for each of the distance to the schedule [mm],
+            the cue axis's angle to the direction [deg] and the relative speed error [%]
+            that passes half its tolerance; empty when the strike stays on schedule.
+        """
         if spec.strike_phase < 0:
-            return True
+            return []
         phase = traj.phase("strike")
         knots = traj.breakpoints
         inside = knots[(knots >= phase.t_start - 1e-12) & (knots <= phase.t_end + 1e-12)]
@@ -828,11 +864,16 @@ class OptimalControl:
         jac = robot.jacobian(s.q)
         velocity = np.einsum("kij,kj->ki", jac[:, :3, :], s.qd)
         speed_error = np.max(np.linalg.norm(velocity - speed * direction, axis=1)) / speed
-        return bool(
-            gap <= 0.5 * problem.position_tolerance
-            and angle <= 0.5 * problem.angle_tolerance
-            and speed_error <= 0.5 * problem.speed_tolerance
+        measured = (
+            ("distance to the schedule", 1e3 * gap, 1e3 * problem.position_tolerance, "mm"),
+            ("cue axis angle", np.degrees(angle), np.degrees(problem.angle_tolerance), "deg"),
+            ("speed error", 100 * speed_error, 100 * problem.speed_tolerance, "%"),
         )
+        return [
+            (name, float(value), 0.5 * float(tolerance), unit)
+            for name, value, tolerance, unit in measured
+            if not value <= 0.5 * tolerance
+        ]
 
     # -- building ----------------------------------------------------------------------------
 
@@ -1473,6 +1514,34 @@ def _guess_move(
         return _quintic(q0, q1, duration or max(2.0 * span, 0.2), v1, a1)
 
 
+def _check_duration(
+    what: str,
+    name: str,
+    duration: float,
+    needed: FloatArray,
+    limits: JointLimits,
+    bound: str,
+) -> None:
+    """Raise when a fixed duration [s] is below a joint's lower bound ``needed`` [s], (n,).
+
+    ``bound`` says which limits the bound counts: ``"velocity"`` (distance over the velocity
+    limit) or ``"jerk"`` (the velocity, acceleration and jerk limits together).
+    """
+    joint = int(np.argmax(needed))
+    if needed[joint] > duration * (1.0 + 1e-9):
+        limits_text = (
+            "velocity limit" if bound == "velocity" else ("velocity, acceleration and jerk limits")
+        )
+        raise InfeasibleError(
+            f"{what} needs at least {needed[joint]:.4g} s: joint {limits.names[joint]!r} "
+            f"cannot move faster within its {limits_text}; {name} is {duration:.4g} s",
+            limit="duration",
+            joint=limits.names[joint],
+            required=float(needed[joint]),
+            allowed=duration,
+        )
+
+
 def _point_to_point(problem: PointToPoint) -> _Spec:
     limits = problem.limits
     n = limits.n
@@ -1521,6 +1590,11 @@ def _waypoints(problem: Waypoints) -> _Spec:
     names = []
     for k in range(len(points) - 1):
         duration = None if fixed_durations is None else float(fixed_durations[k])
+        if duration is not None:  # the waypoints between may be passed at any speed
+            spans = np.abs(points[k + 1] - points[k]) / limits.velocity
+            _check_duration(
+                f"segment {k + 1}", f"segment_durations[{k}]", duration, spans, limits, "velocity"
+            )
         pieces.append(
             (
                 f"segment {k + 1}",
@@ -1580,7 +1654,11 @@ def _contact_from(problem: PoolStrike, warm_start: Trajectory | None) -> Contact
         q = np.asarray(previous, dtype=float)
     except (TypeError, ValueError):
         return None
-    if q.shape != (problem.limits.n,) or not np.all(np.isfinite(q)):
+    if (
+        q.shape != (problem.limits.n,)
+        or not np.all(np.isfinite(q))
+        or not problem.limits.contains(q)
+    ):
         return None
     return contact_near(problem, q)
 
@@ -1649,6 +1727,9 @@ def _paddle(problem: PaddleStrike, choice: ContactChoice) -> _Spec:
     contact_time = float(problem.contact_time)
     start = _Fixed(0, "start", np.asarray(problem.q_start), _zeros(n), _zeros(n))
     if float(problem.speed) == 0.0:
+        # Rest to rest: no joint can be faster than alone (planners.lower_bound).
+        needed = joint_min_durations(q_start=problem.q_start, q_goal=q_contact, limits=limits)
+        _check_duration("the paddle", "contact_time", contact_time, needed, limits, "jerk")
         approach = _quintic(np.asarray(problem.q_start), q_contact, contact_time)
         guess = Trajectory.sequence([("approach", [approach])], joint_names=limits.names)
         return _Spec(
@@ -1659,6 +1740,8 @@ def _paddle(problem: PaddleStrike, choice: ContactChoice) -> _Spec:
             guess=guess,
             fixed=[start, _Fixed(0, "end", q_contact, _zeros(n), _zeros(n))],
         )
+    spans = np.abs(q_contact - np.asarray(problem.q_start)) / limits.velocity
+    _check_duration("the paddle", "contact_time", contact_time, spans, limits, "velocity")
     qd_contact = choice.qd
     approach = _quintic(np.asarray(problem.q_start), q_contact, contact_time, qd_contact)
     try:

@@ -28,10 +28,15 @@ from problems.constraints import (
 )
 from robots import JointLimits, Robot, solve_ik
 
-__all__ = ["POOL_BALL_RADIUS", "PoolStrike"]
+__all__ = ["MAX_WINDOW", "POOL_BALL_RADIUS", "PoolStrike"]
 
 #: Radius of a pool ball [m] (standard diameter 57.15 mm, 2.25 in).
 POOL_BALL_RADIUS = 0.028575
+
+#: Longest strike window [s]: (run_up + follow_through) / speed. At the default distances a
+#: minute is 2.5 mm/s; slower is a positioning move rather than a strike, and a window of
+#: astronomical length (a speed near 0) turns the strike line's samples into NaNs.
+MAX_WINDOW = 60.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -47,7 +52,8 @@ class PoolStrike:
         robot: The robot; its tool frame is the cue tip (``robots.load("sawyer")``).
         ball: Ball centre [m], shape (3,).
         direction: Shot direction, shape (3,) (normalised here).
-        speed: Cue tip speed during the strike [m/s].
+        speed: Cue tip speed during the strike [m/s]; the window it gives may last at most
+            :data:`MAX_WINDOW`.
         run_up: Distance at constant speed before contact [m].
         follow_through: Distance at constant speed after contact [m].
         ball_radius: [m].
@@ -90,6 +96,13 @@ class PoolStrike:
             raise InvalidInputError(
                 "run_up + follow_through must be > 0 m (the strike needs a window)",
                 name="run_up",
+            )
+        if (run_up + follow) / speed > MAX_WINDOW:
+            raise InvalidInputError(
+                f"speed {speed:.6g} m/s makes the strike window (run_up + follow_through = "
+                f"{run_up + follow:.6g} m) last {(run_up + follow) / speed:.6g} s, more than "
+                f"{MAX_WINDOW:g} s: the speed must be >= {(run_up + follow) / MAX_WINDOW:.6g} m/s",
+                name="speed",
             )
         radius = non_negative(self.ball_radius, "ball_radius", "m")
         positive_fields(

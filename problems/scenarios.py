@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 import robots
+from optraj.validation import as_array
 from problems.paddle_strike import PaddleStrike
 from problems.pick_and_place import PickAndPlace
 from problems.pool_strike import PoolStrike
@@ -44,8 +45,11 @@ def sawyer_pool_shot(
         speed: Cue speed [m/s].
         ball: Ball centre in the base frame [m].
         heading_deg: Shot direction from +x about +z [deg].
+
+    Raises:
+        InvalidInputError: A heading that is not a finite number, or bad speed or ball.
     """
-    heading = np.radians(heading_deg)
+    heading = np.radians(float(as_array(heading_deg, "heading_deg", ())))
     return PoolStrike(
         robots.load("sawyer"),
         ball=ball,

@@ -22,7 +22,7 @@ from scipy.linalg import null_space
 from scipy.optimize import linprog
 
 import problems
-from optraj.errors import InfeasibleError, InvalidInputError, UnreachableError
+from optraj.errors import InfeasibleError, InvalidInputError, JointLimitError, UnreachableError
 from planners.cartesian import paddle_contact_velocity
 from planners.contact import (
     ContactChoice,
@@ -262,6 +262,7 @@ def test_a_motion_the_arm_cannot_make_has_an_infinite_ratio():
         ({"direction": [np.nan, 0.0, 1.0]}, "direction"),
         ({"speed": -1.0}, "speed"),
         ({"offset": np.inf}, "offset"),
+        ({"offset": 1e300}, "offset"),
         ({"limits": "sawyer"}, "limits"),
     ],
 )
@@ -508,6 +509,11 @@ def test_contact_near_declines_a_strike_without_room_and_bad_input():
         contact_near(problem, choice.q[:3])
     with pytest.raises(InvalidInputError, match="PoolStrike"):
         contact_near(problems.seed_paddle_strike(), choice.q)
+    beyond = choice.q.copy()
+    beyond[1] = problem.limits.upper[1] + 0.5
+    with pytest.raises(JointLimitError, match="contact_near q: joint 'right_j1'") as info:
+        contact_near(problem, beyond)
+    assert info.value.joint == "right_j1"
 
 
 def test_pool_choice_is_reproducible_for_a_seed():
@@ -709,3 +715,10 @@ def test_excluded_branches_are_left_out():
         assert np.abs(choice.q - first[0].q).max() > 0.1
     # The same search: the next branches of the first call come first.
     assert [c.q.tolist() for c in others[:2]] == [c.q.tolist() for c in first[1:]]
+    # None excludes nothing; anything but configurations is named.
+    assert [c.q.tolist() for c in contact_choices(problem, 3, exclude=None)] == [
+        c.q.tolist() for c in first
+    ]
+    for bad, match in ((5, "exclude must be a sequence"), ([[0.0] * 3], r"exclude\[0\]")):
+        with pytest.raises(InvalidInputError, match=match):
+            contact_choices(problem, 3, exclude=bad)

@@ -593,6 +593,8 @@ def test_sqpmethod_plans_a_small_move_with_nested_solver_options():
         ({"free_grid": "no"}, "free_grid"),
         ({"solver_options": 5}, "solver_options"),
         ({"max_interval": 1e-6}, "max_interval must be > 0.0001 s"),
+        ({"intervals": {"bogus": 5}}, "intervals names a phase 'bogus'"),
+        ({"intervals": {"segment 0": 5}}, "intervals names a phase 'segment 0'"),
     ],
 )
 def test_bad_options_raise_typed_errors(kwargs, name):
@@ -620,3 +622,36 @@ def test_bad_plan_inputs_are_named_before_any_solve():
 def test_an_unsupported_problem_is_named():
     with pytest.raises(InvalidInputError, match="PickAndPlace"):
         OptimalControl().plan(problems.youbot_two_blocks())
+
+
+def test_fixed_durations_below_a_joints_bound_are_infeasible_before_any_solve():
+    paddle = get_robot("paddle4")
+    rest = problems.PaddleStrike(paddle, ball=(1.1, 0.8, 0.7), contact_time=0.6)
+    bound = lower_bound(problems.PointToPoint(paddle, rest.q_start, rest.q_contact))
+    with pytest.raises(InfeasibleError, match=r"contact_time is 0\.6 s") as info:
+        OptimalControl().plan(rest)
+    assert info.value.limit == "duration" and info.value.allowed == 0.6
+    assert info.value.required == pytest.approx(bound, rel=1e-9)
+    moving = dataclasses.replace(rest, speed=0.5, contact_time=0.05)
+    with pytest.raises(InfeasibleError, match="within its velocity limit") as info:
+        OptimalControl().plan(moving)
+    spans = np.abs(rest.q_contact - rest.q_start) / paddle.limits.velocity
+    assert info.value.required == pytest.approx(spans.max(), rel=1e-12)
+    assert info.value.joint == paddle.limits.names[int(np.argmax(spans))]
+    sawyer = get_robot("sawyer")
+    points = np.array([sawyer.home, sawyer.home + 0.5, sawyer.home - 0.3])
+    waypoints = problems.Waypoints(sawyer, points, segment_durations=(2.0, 0.5))
+    with pytest.raises(InfeasibleError, match=r"segment 2 .* segment_durations\[1\] is 0\.5 s"):
+        OptimalControl().plan(waypoints)
+
+
+def test_a_strike_grid_that_cannot_be_refined_stops_and_names_the_miss(monkeypatch):
+    # Every solve misses the speed between nodes, and the first strike grid is already the
+    # finest allowed: one solve, then an error saying what missed, by how much.
+    miss = [("speed error", 0.2, 0.05, "%")]
+    monkeypatch.setattr(OptimalControl, "_strike_misses", lambda *args: miss)
+    monkeypatch.setattr("planners.optimal_control.MAX_STRIKE_INTERVALS", 1)
+    planner = OptimalControl(contact_retries=0)
+    with pytest.raises(SolverError, match=r"after 1 rounds: speed error 0\.2 %") as info:
+        planner.plan(problems.sawyer_pool_shot())
+    assert info.value.status == "strike line not met between nodes"

@@ -34,6 +34,7 @@ def test_geometry_and_timing_of_the_strike():
     ("kwargs", "error", "match"),
     [
         ({"speed": 0.0}, InvalidInputError, "speed must be > 0 m/s"),
+        ({"speed": 1e-300}, InvalidInputError, r"last 1\.5e\+299 s, .* speed must be >= 0\.0025"),
         ({"direction": (0.0, 0.0, 0.0)}, InvalidInputError, "non-zero direction"),
         ({"ball": (0.7, np.inf, 0.0)}, InvalidInputError, "finite"),
         ({"run_up": 0.0, "follow_through": 0.0}, InvalidInputError, "needs a window"),

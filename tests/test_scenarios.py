@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 import problems
+from optraj.errors import InvalidInputError
 
 
 def test_seed_paddle_strike_is_the_ece486_set_up():
@@ -17,6 +19,13 @@ def test_pool_shot_is_horizontal_and_reachable():
     problem = problems.sawyer_pool_shot(speed=1.5, heading_deg=90.0)
     np.testing.assert_allclose(problem.direction, [0.0, 1.0, 0.0], atol=1e-15)
     assert problem.speed == 1.5
+
+
+@pytest.mark.parametrize("heading", ["abc", np.nan, np.inf, None])
+def test_a_pool_shot_heading_must_be_a_finite_number(heading):
+    with pytest.raises(InvalidInputError) as info:
+        problems.sawyer_pool_shot(heading_deg=heading)
+    assert info.value.name == "heading_deg"
 
 
 def test_two_blocks():
