@@ -870,10 +870,15 @@ def _configurations(value: Sequence[ArrayLike] | None, name: str, n: int) -> lis
     """``value`` as a list of configurations of n joints; None is none."""
     if value is None:
         return []
-    array = np.asarray(value, dtype=object)
-    if array.ndim == 0 or isinstance(value, (str, bytes)):
+    if isinstance(value, (str, bytes)) or not isinstance(value, (Sequence, np.ndarray)):
         raise InvalidInputError(
             f"{name} must be a sequence of configurations of {n} joints, got {value!r}",
+            name=name,
+        )
+    if len(value) and np.ndim(value[0]) == 0:
+        raise InvalidInputError(
+            f"{name} must be a sequence of configurations of {n} joints, got one of numbers: "
+            f"put a single configuration in a list",
             name=name,
         )
     return [as_vector(q, f"{name}[{k}]", n) for k, q in enumerate(value)]

@@ -105,7 +105,7 @@ import threading
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 import casadi as ca
 import numpy as np
@@ -723,6 +723,8 @@ class OptimalControl:
             )
             traj = self._solve(built)
             solves.append(traj)
+            # Nothing but the grid to change: no torque rows, no moved bounds, no new rows.
+            plain = not built.compiled.structure.torque_nodes and shrink is None
             ratios = self._torque_ratios(traj, spec)
             more = [] if self.torque is False else self._torque_nodes(traj, ratios, built)
             misses = self._strike_misses(traj, problem, spec)
@@ -743,8 +745,8 @@ class OptimalControl:
                 position_rows, shrink = True, None
             if not strike_ok:  # a finer strike grid renumbers the nodes
                 strike_intervals = built.compiled.structure.intervals[spec.strike_phase]
-                if strike_intervals >= MAX_STRIKE_INTERVALS:
-                    break  # no finer grid to try
+                if strike_intervals >= MAX_STRIKE_INTERVALS and plain and positions_ok:
+                    break  # no finer grid, and nothing else that a new round would drop
                 strike_scale *= 2
                 torque_nodes, row_margins, expansions = (), None, 0
                 shrink, shrinks = None, 0
@@ -764,14 +766,15 @@ class OptimalControl:
                     torque_margin = min(0.2, 2.0 * torque_margin + 0.01)
                 torque_nodes = tuple(sorted(set(torque_nodes) | set(more)))
             warm_start = traj
-        if ratios is not None and ratios[1].max() > 1.0:
+        torque_rows = built.compiled.structure.torque_nodes
+        if torque_rows and ratios is not None and ratios[1].max() > 1.0:
             tau = ratios[2]
             i, j = np.unravel_index(int(np.argmax(np.abs(tau) / spec.limits.effort)), tau.shape)
             joint, value = spec.limits.names[j], float(tau[i, j])
             limit = float(spec.limits.effort[j])
             raise InfeasibleError(
                 f"torque of {joint} stays at {value:.4g} N m (limit {limit:.4g}) after "
-                f"{round_} rounds of torque rows",
+                f"{round_} rounds, the last with torque rows at {len(torque_rows)} nodes",
                 limit="effort",
                 joint=joint,
                 required=value,
@@ -787,6 +790,8 @@ class OptimalControl:
             f"tolerance)"
             for name, value, allowed, unit in misses
         )
+        if ratios is not None and ratios[1].max() > 1.0:
+            what += f"; torques up to {ratios[1].max():.3g} of their limits"
         intervals = built.compiled.structure.intervals[spec.strike_phase]
         raise SolverError(
             self.solver,
@@ -1520,7 +1525,7 @@ def _check_duration(
     duration: float,
     needed: FloatArray,
     limits: JointLimits,
-    bound: str,
+    bound: Literal["velocity", "jerk"],
 ) -> None:
     """Raise when a fixed duration [s] is below a joint's lower bound ``needed`` [s], (n,).
 
@@ -1586,12 +1591,14 @@ def _waypoints(problem: Waypoints) -> _Spec:
     n = limits.n
     points = np.asarray(problem.waypoints)
     fixed_durations = problem.segment_durations
+    tol = 0.0 if problem.via_tolerance is None else float(problem.via_tolerance)
     pieces = []
     names = []
     for k in range(len(points) - 1):
         duration = None if fixed_durations is None else float(fixed_durations[k])
-        if duration is not None:  # the waypoints between may be passed at any speed
-            spans = np.abs(points[k + 1] - points[k]) / limits.velocity
+        if duration is not None:  # inner waypoints: passed at any speed, within tol of them
+            slack = tol * ((k > 0) + (k + 1 < len(points) - 1))
+            spans = np.maximum(np.abs(points[k + 1] - points[k]) - slack, 0.0) / limits.velocity
             _check_duration(
                 f"segment {k + 1}", f"segment_durations[{k}]", duration, spans, limits, "velocity"
             )
@@ -1614,7 +1621,6 @@ def _waypoints(problem: Waypoints) -> _Spec:
         )
         names.append(f"segment {k + 1}")
     guess = Trajectory.sequence(pieces, joint_names=limits.names)
-    tol = 0.0 if problem.via_tolerance is None else float(problem.via_tolerance)
     fixed = [_Fixed(0, "start", points[0], _zeros(n), _zeros(n))]
     fixed += [_Fixed(k, "end", points[k + 1], None, None, tol) for k in range(len(points) - 2)]
     fixed.append(_Fixed(len(points) - 2, "end", points[-1], _zeros(n), _zeros(n)))
@@ -1727,9 +1733,15 @@ def _paddle(problem: PaddleStrike, choice: ContactChoice) -> _Spec:
     contact_time = float(problem.contact_time)
     start = _Fixed(0, "start", np.asarray(problem.q_start), _zeros(n), _zeros(n))
     if float(problem.speed) == 0.0:
-        # Rest to rest: no joint can be faster than alone (planners.lower_bound).
-        needed = joint_min_durations(q_start=problem.q_start, q_goal=q_contact, limits=limits)
-        _check_duration("the paddle", "contact_time", contact_time, needed, limits, "jerk")
+        # Rest to rest: no joint can be faster than alone (planners.lower_bound); past
+        # Ruckig's range, distance over the velocity limit is the bound.
+        bound: Literal["velocity", "jerk"] = "jerk"
+        try:
+            needed = joint_min_durations(q_start=problem.q_start, q_goal=q_contact, limits=limits)
+        except SolverError:
+            needed = np.abs(q_contact - np.asarray(problem.q_start)) / limits.velocity
+            bound = "velocity"
+        _check_duration("the paddle", "contact_time", contact_time, needed, limits, bound)
         approach = _quintic(np.asarray(problem.q_start), q_contact, contact_time)
         guess = Trajectory.sequence([("approach", [approach])], joint_names=limits.names)
         return _Spec(

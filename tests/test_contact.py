@@ -719,6 +719,10 @@ def test_excluded_branches_are_left_out():
     assert [c.q.tolist() for c in contact_choices(problem, 3, exclude=None)] == [
         c.q.tolist() for c in first
     ]
-    for bad, match in ((5, "exclude must be a sequence"), ([[0.0] * 3], r"exclude\[0\]")):
+    for bad, match in (
+        (5, "exclude must be a sequence"),
+        ([[0.0] * 3], r"exclude\[0\]"),
+        (first[0].q, "put a single configuration in a list"),
+    ):
         with pytest.raises(InvalidInputError, match=match):
             contact_choices(problem, 3, exclude=bad)

@@ -643,6 +643,58 @@ def test_fixed_durations_below_a_joints_bound_are_infeasible_before_any_solve():
     waypoints = problems.Waypoints(sawyer, points, segment_durations=(2.0, 0.5))
     with pytest.raises(InfeasibleError, match=r"segment 2 .* segment_durations\[1\] is 0\.5 s"):
         OptimalControl().plan(waypoints)
+    # A via point may be passed within its tolerance: 1 rad at right_j0's 1.74 rad/s needs
+    # 0.575 s, but 0.55 rad (1 - 0.45) fits in 0.5 s, and the plan passes the checker.
+    step = np.eye(7)[0]
+    points = np.array([sawyer.home, sawyer.home + step, sawyer.home + 2 * step])
+    loose = problems.Waypoints(sawyer, points, segment_durations=(0.5, 1.5), via_tolerance=0.45)
+    traj = OptimalControl().plan(loose)
+    report = check(traj, loose, quantities=("position", "velocity", "acceleration", "jerk"))
+    assert report.ok, report.summary()
+
+
+def test_a_strike_that_leaves_its_schedule_is_solved_again_on_a_finer_grid(monkeypatch):
+    problem = problems.sawyer_pool_shot()
+    plain = OptimalControl(contact_retries=0).plan(problem)
+    real = OptimalControl._strike_misses
+    calls = []
+
+    def first_misses(self, traj, problem, spec):
+        calls.append(traj)
+        return (
+            [("speed error", 0.2, 0.05, "%")]
+            if len(calls) == 1
+            else real(self, traj, problem, spec)
+        )
+
+    monkeypatch.setattr(OptimalControl, "_strike_misses", first_misses)
+    traj = OptimalControl(contact_retries=0).plan(problem)
+    assert traj.metadata["rounds"] == 2 and len(calls) == 2
+    assert traj.metadata["intervals"]["strike"] == 2 * plain.metadata["intervals"]["strike"]
+    assert check(traj, problem).ok
+
+
+def test_strike_misses_are_measured_in_the_units_they_name():
+    problem = problems.sawyer_pool_shot()
+    planner = OptimalControl(contact_retries=0)
+    traj = planner.plan(problem)
+    spec = planner._spec(problem)
+    assert planner._strike_misses(traj, problem, spec) == []
+    tight = dataclasses.replace(
+        problem, position_tolerance=1e-15, speed_tolerance=1e-15, angle_tolerance=1e-15
+    )
+    misses = {
+        name: (value, allowed, unit)
+        for name, value, allowed, unit in planner._strike_misses(traj, tight, spec)
+    }
+    assert set(misses) == {"distance to the schedule", "cue axis angle", "speed error"}
+    assert misses["distance to the schedule"][1:] == (pytest.approx(0.5e-12), "mm")
+    assert misses["cue axis angle"][1:] == (pytest.approx(0.5 * np.degrees(1e-15)), "deg")
+    assert misses["speed error"][1:] == (pytest.approx(0.5e-13), "%")
+    # Within half of what the default problem allows, in those units: 0.01 mm, 0.01 deg, 0.1 %.
+    assert 0 < misses["distance to the schedule"][0] <= 0.5e-2
+    assert 0 < misses["cue axis angle"][0] <= 0.5e-2
+    assert 0 < misses["speed error"][0] <= 0.5e-1
 
 
 def test_a_strike_grid_that_cannot_be_refined_stops_and_names_the_miss(monkeypatch):
