@@ -1535,7 +1535,7 @@ def _check_duration(
     joint = int(np.argmax(needed))
     if needed[joint] > duration * (1.0 + 1e-9):
         limits_text = (
-            "velocity limit" if bound == "velocity" else ("velocity, acceleration and jerk limits")
+            "velocity limit" if bound == "velocity" else "velocity, acceleration and jerk limits"
         )
         raise InfeasibleError(
             f"{what} needs at least {needed[joint]:.4g} s: joint {limits.names[joint]!r} "
