@@ -1732,16 +1732,18 @@ def _paddle(problem: PaddleStrike, choice: ContactChoice) -> _Spec:
     q_contact = np.asarray(problem.q_contact)
     contact_time = float(problem.contact_time)
     start = _Fixed(0, "start", np.asarray(problem.q_start), _zeros(n), _zeros(n))
+    # No joint is faster than its distance over its velocity limit; arriving at rest, none is
+    # faster than alone (planners.lower_bound), within Ruckig's range.
+    needed = np.abs(q_contact - np.asarray(problem.q_start)) / limits.velocity
+    bound: Literal["velocity", "jerk"] = "velocity"
     if float(problem.speed) == 0.0:
-        # Rest to rest: no joint can be faster than alone (planners.lower_bound); past
-        # Ruckig's range, distance over the velocity limit is the bound.
-        bound: Literal["velocity", "jerk"] = "jerk"
         try:
             needed = joint_min_durations(q_start=problem.q_start, q_goal=q_contact, limits=limits)
+            bound = "jerk"
         except SolverError:
-            needed = np.abs(q_contact - np.asarray(problem.q_start)) / limits.velocity
-            bound = "velocity"
-        _check_duration("the paddle", "contact_time", contact_time, needed, limits, bound)
+            pass
+    _check_duration("the paddle", "contact_time", contact_time, needed, limits, bound)
+    if float(problem.speed) == 0.0:
         approach = _quintic(np.asarray(problem.q_start), q_contact, contact_time)
         guess = Trajectory.sequence([("approach", [approach])], joint_names=limits.names)
         return _Spec(
@@ -1752,8 +1754,6 @@ def _paddle(problem: PaddleStrike, choice: ContactChoice) -> _Spec:
             guess=guess,
             fixed=[start, _Fixed(0, "end", q_contact, _zeros(n), _zeros(n))],
         )
-    spans = np.abs(q_contact - np.asarray(problem.q_start)) / limits.velocity
-    _check_duration("the paddle", "contact_time", contact_time, spans, limits, "velocity")
     qd_contact = choice.qd
     approach = _quintic(np.asarray(problem.q_start), q_contact, contact_time, qd_contact)
     try:
