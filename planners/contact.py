@@ -53,7 +53,14 @@ from robots import JointLimits, Robot, solve_ik
 from robots.ik import LocalIK
 from robots.paddle_ik import BALL_OFFSET
 
-__all__ = ["ContactChoice", "choose_contact", "contact_choices", "contact_near", "twist_ratio"]
+__all__ = [
+    "BRANCH_SPREAD",
+    "ContactChoice",
+    "choose_contact",
+    "contact_choices",
+    "contact_near",
+    "twist_ratio",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -79,8 +86,10 @@ _LP_TOLERANCE = 1e-10
 _RESTARTS_PER_CANDIDATE = 3
 #: Candidates (best first) improved by the self-motion pattern search ...
 _REFINED = 3
-#: ... at least this far apart (largest joint difference) [rad or m], ...
-_SPREAD = 0.1
+#: ... at least this far apart (largest joint difference) [rad or m]: configurations closer
+#: than this on every joint count as one IK branch (here, and for a planner deciding whether a
+#: previous solution through one contact can seed a plan through another), ...
+BRANCH_SPREAD = 0.1
 #: ... each with at most this many trial configurations (along the self-motion of the
 #: joints that move the cue: turning the cue about its own axis changes no ratio), enough to
 #: halve the step from the first to the smallest with both directions tried at each.
@@ -808,9 +817,9 @@ def _rank_pool(
         )
     found.sort(key=lambda w: w.score)
     seeds: list[_Window] = []
-    for window in found:  # the best few, at least _SPREAD apart (not one optimum thrice)
+    for window in found:  # the best few, at least BRANCH_SPREAD apart (not one optimum thrice)
         if len(seeds) < _REFINED and all(
-            np.abs(window.q - other.q).max() > _SPREAD for other in seeds
+            np.abs(window.q - other.q).max() > BRANCH_SPREAD for other in seeds
         ):
             seeds.append(window)
     nearest = min(found, key=lambda w: _reach(problem, w.q))
@@ -842,7 +851,7 @@ def _rank_pool(
     taken = list(exclude)
     for window in ranked:  # alternatives must be other branches, not the same one refined
         if speed * window.r1 <= 1.0 - margin and all(
-            np.abs(window.q - other).max() > _SPREAD for other in taken
+            np.abs(window.q - other).max() > BRANCH_SPREAD for other in taken
         ):
             distinct.append(window)
             taken.append(window.q)

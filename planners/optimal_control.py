@@ -79,7 +79,11 @@ Warm starts
     and dual values (``traj.metadata["warm_start"]``); from any other trajectory with the
     same phase names (TOPPRA, Ruckig, classic profiles), its states at the nodes. A previous
     pool solution's contact configuration (``traj.metadata["contact_configuration"]``) is
-    tried first for the new strike, one local IK away, before any contact search.
+    tried first for the new strike, one local IK away, before any contact search; when the
+    search chooses a contact on another IK branch (more than
+    :data:`planners.contact.BRANCH_SPREAD` away on some joint), the plan starts cold. A
+    warm solve that has not converged after :data:`planners.transcription.WARM_ITERATIONS`
+    iterations is solved again from the same primal point with a fresh barrier.
 
 Solve statistics
     ``plan`` sums over every solve it made: ``metadata["iterations"]`` and
@@ -88,7 +92,9 @@ Solve statistics
     evaluating the NLP's functions and derivatives (the rest is the solver's own work);
     ``contact_time`` [s] is the wall time of the contact choice (0 for a move);
     ``warm_started`` tells whether the first solve started from a previous solution's
-    multipliers; ``status``, ``objective`` and ``constraint_violation`` are the last solve's.
+    multipliers, and ``warm_abandoned`` whether the last one was dropped for a cold one
+    (whose iterations and times are counted too); ``status``, ``objective`` and
+    ``constraint_violation`` are the last solve's.
 
 Example::
 
@@ -100,6 +106,7 @@ Example::
 from __future__ import annotations
 
 import dataclasses
+import math
 import re
 import threading
 import time
@@ -122,7 +129,13 @@ from optraj.errors import (
 from optraj.validation import as_array, as_count, as_positive
 from planners.base import stamp
 from planners.checker import RELATIVE_SLACK
-from planners.contact import ContactChoice, choose_contact, contact_choices, contact_near
+from planners.contact import (
+    BRANCH_SPREAD,
+    ContactChoice,
+    choose_contact,
+    contact_choices,
+    contact_near,
+)
 from planners.lower_bound import joint_min_durations
 from planners.ruckig_planner import state_to_state, stop
 from planners.strike import strike_line
@@ -595,7 +608,9 @@ class OptimalControl:
                 searching += time.perf_counter() - searched
             for choice in choices:
                 tried.append(choice.q)
-                start = warm_start if len(tried) == 1 else None  # None after a seeded try
+                # None after a seeded try, or for a choice on another branch than its own.
+                lend = len(tried) == 1 and _lends_to(problem, warm_start, choice)
+                start = warm_start if lend else None
                 outcome = self._attempt(
                     problem, choice, start, len(tried), started, searching, False
                 )
@@ -1126,9 +1141,47 @@ class OptimalControl:
 
     # -- solving -----------------------------------------------------------------------------
 
+    def _call(
+        self, built: OptimalControlProblem, solver: ca.Function, args: dict[str, Any]
+    ) -> _Call:
+        """One solver call.
+
+        Its ``error`` is set when the solver raised, did not succeed, or left a constraint
+        group violated by more than 1e-6 (scaled).
+        """
+        with built.compiled.lock:
+            started = time.perf_counter()
+            try:
+                result = solver(**args)
+            except RuntimeError as error:  # the plugin raised instead of returning a status
+                stats = solver.stats()
+                failure = SolverError(
+                    self.solver,
+                    str(stats.get("return_status", "exception")),
+                    iterations=int(stats.get("iter_count", -1)),
+                    detail=_casadi_reason(str(error)),
+                )
+                failure.__cause__ = error
+                wall = time.perf_counter() - started
+                return _Call(np.zeros(0), {}, stats, wall, "", math.inf, failure)
+            wall = time.perf_counter() - started
+            stats = solver.stats()
+        w = np.asarray(result["x"]).reshape(-1)
+        violations = built.violations(w)
+        worst_group = max(violations, key=violations.get)
+        worst = violations[worst_group]
+        failure = None
+        if not stats.get("success", False) or not np.all(np.isfinite(w)) or worst > 1e-6:
+            failure = SolverError(
+                self.solver,
+                str(stats.get("return_status", "unknown")),
+                iterations=int(stats.get("iter_count", -1)),
+                detail=f"most violated: {worst_group} by {worst:.3g} (scaled)",
+            )
+        return _Call(w, result, stats, wall, worst_group, worst, failure)
+
     def _solve(self, built: OptimalControlProblem) -> Trajectory:
         compiled = built.compiled
-        warm = built.lam_x0 is not None
         args: dict[str, Any] = {
             "x0": built.x0,
             "lbx": built.lbx,
@@ -1137,57 +1190,42 @@ class OptimalControl:
             "ubg": compiled.ubg,
             "p": built.p,
         }
-        if warm:
-            args["lam_x0"] = built.lam_x0
-            args["lam_g0"] = built.lam_g0
-        with compiled.lock:
-            solver = compiled.warm() if warm else compiled.solver
-            started = time.perf_counter()
-            try:
-                result = solver(**args)
-            except RuntimeError as error:  # the plugin raised instead of returning a status
-                stats = solver.stats()
-                raise SolverError(
-                    self.solver,
-                    str(stats.get("return_status", "exception")),
-                    iterations=int(stats.get("iter_count", -1)),
-                    detail=_casadi_reason(str(error)),
-                ) from error
-            wall = time.perf_counter() - started
-            stats = solver.stats()
-        w = np.asarray(result["x"]).reshape(-1)
-        status = str(stats.get("return_status", "unknown"))
-        iterations = int(stats.get("iter_count", -1))
-        violations = built.violations(w)
-        worst_group = max(violations, key=violations.get)
-        worst = violations[worst_group]
-        if not stats.get("success", False) or not np.all(np.isfinite(w)) or worst > 1e-6:
-            raise SolverError(
-                self.solver,
-                status,
-                iterations=iterations,
-                detail=f"most violated: {worst_group} by {worst:.3g} (scaled)",
-            )
+        abandoned: _Call | None = None
+        if built.lam_x0 is not None:
+            warm = {**args, "lam_x0": built.lam_x0, "lam_g0": built.lam_g0}
+            call = self._call(built, compiled.warm(), warm)
+            if call.error is not None:
+                # The multipliers led nowhere within WARM_ITERATIONS (a previous solution
+                # whose active set is far from this problem's): solve again from the same
+                # primal point with the cold solver's fresh barrier.
+                abandoned, call = call, self._call(built, compiled.solver, args)
+        else:
+            call = self._call(built, compiled.solver, args)
+        if call.error is not None:
+            raise call.error
+        w, stats = call.w, call.stats
+        dropped = (0, 0.0, 0.0) if abandoned is None else abandoned.spent()
         traj = _trajectory(built, w)
         traj.metadata.update(
             {
                 "solver": self.solver,
                 "status": "ok",
-                "solver_status": status,
-                "iterations": iterations,
-                "nlp_time": wall,
-                "evaluation_time": _evaluation_time(stats),
-                "objective": float(result["f"]),
-                "constraint_violation": worst,
-                "warm_started": warm,
+                "solver_status": str(stats.get("return_status", "unknown")),
+                "iterations": int(stats.get("iter_count", -1)) + dropped[0],
+                "nlp_time": call.wall + dropped[1],
+                "evaluation_time": _evaluation_time(stats) + dropped[2],
+                "objective": float(call.result["f"]),
+                "constraint_violation": call.worst,
+                "warm_started": built.lam_x0 is not None,
+                "warm_abandoned": abandoned is not None,
                 "intervals": {g.name: g.intervals for g in built.grids},
                 "variables": built.variables,
                 "constraints": built.constraints,
                 "warm_start": WarmStart(
                     compiled.structure,
                     w,
-                    np.asarray(result["lam_x"]).reshape(-1),
-                    np.asarray(result["lam_g"]).reshape(-1),
+                    np.asarray(call.result["lam_x"]).reshape(-1),
+                    np.asarray(call.result["lam_g"]).reshape(-1),
                     float(built.p[0]),  # time_scale, the first parameter
                 ),
             }
@@ -1295,6 +1333,24 @@ def _casadi_reason(message: str) -> str:
         if line.strip() and not line.strip().startswith("Error in Function::call")
     ]
     return " ".join(lines[:2]) or message.strip()
+
+
+@dataclass(frozen=True)
+class _Call:
+    """One call of a compiled solver (:meth:`OptimalControl._call`)."""
+
+    w: FloatArray  # primal solution, scaled (empty when the solver raised)
+    result: dict[str, Any]  # the solver's outputs
+    stats: dict[str, Any]  # the solver's statistics
+    wall: float  # [s]
+    worst_group: str  # the most violated constraint group ...
+    worst: float  # ... and by how much (scaled)
+    error: SolverError | None  # why the call failed, or None
+
+    def spent(self) -> tuple[int, float, float]:
+        """Iterations, wall time [s] and function evaluation time [s] of the call."""
+        iterations = max(int(self.stats.get("iter_count", 0)), 0)
+        return iterations, self.wall, _evaluation_time(self.stats)
 
 
 def _totals(traj: Trajectory, solves: list[Trajectory]) -> Trajectory:
@@ -1649,12 +1705,15 @@ def _checked_warm_start(problem: Any, warm_start: Any) -> Trajectory | None:
     return warm_start
 
 
-def _contact_from(problem: PoolStrike, warm_start: Trajectory | None) -> ContactChoice | None:
-    """The contact branch of a previous pool solution, if it still fits this problem."""
+def _previous_contact(problem: PoolStrike, warm_start: Trajectory | None) -> FloatArray | None:
+    """The contact configuration a previous pool solution recorded [rad], shape (n,).
+
+    None when there is none, or it does not lie within this problem's position limits.
+    """
     if warm_start is None:
         return None
     previous = warm_start.metadata.get("contact_configuration")
-    if previous is None or not isinstance(problem, PoolStrike):
+    if previous is None:
         return None
     try:  # an array, or a list once read back from JSON
         q = np.asarray(previous, dtype=float)
@@ -1666,7 +1725,32 @@ def _contact_from(problem: PoolStrike, warm_start: Trajectory | None) -> Contact
         or not problem.limits.contains(q)
     ):
         return None
-    return contact_near(problem, q)
+    return q
+
+
+def _contact_from(problem: PoolStrike, warm_start: Trajectory | None) -> ContactChoice | None:
+    """The contact branch of a previous pool solution, if it still fits this problem."""
+    q = _previous_contact(problem, warm_start)
+    return None if q is None else contact_near(problem, q)
+
+
+def _lends_to(problem: PoolStrike, warm_start: Trajectory | None, choice: ContactChoice) -> bool:
+    """Whether a warm start may seed the plan through ``choice``.
+
+    Not when it is a pool solution through another IK branch (its contact configuration more
+    than :data:`planners.contact.BRANCH_SPREAD` from the choice's on some joint): IPOPT would
+    have to drag the whole strike across from there, at the warm start's small barrier
+    parameter, which took 300 to 630 iterations on strike benchmark shots whose ball moved 2
+    cm (the search chose another branch once the kept one had no room left), against 30 to 70
+    from the cold guess. A warm start that recorded no contact seeds any choice.
+    """
+    if warm_start is None:
+        return False
+    previous = warm_start.metadata.get("contact_configuration")
+    if previous is None:
+        return True
+    q = _previous_contact(problem, warm_start)
+    return q is not None and float(np.abs(q - choice.q).max()) <= BRANCH_SPREAD
 
 
 def _pool(

@@ -20,6 +20,7 @@ from optraj.errors import (
     UnknownNameError,
 )
 from planners import Quintic, Trajectory, check, lower_bound
+from planners.contact import BRANCH_SPREAD
 from planners.optimal_control import (
     POSITION_SHRINKS,
     SHRINK_EXTRA,
@@ -31,7 +32,7 @@ from planners.optimal_control import (
     _shrunk,
     _tightened,
 )
-from planners.transcription import compile_nlp
+from planners.transcription import WARM_ITERATIONS, compile_nlp
 from robots import SymbolicModel
 
 SAWYER_SHOT = {"x": (0.65, 0.85), "y": (-0.05, 0.3), "z": (-0.1, 0.0), "heading": (-20.0, 20.0)}
@@ -499,6 +500,47 @@ def test_a_warm_re_plan_whose_kept_contact_fails_runs_the_search(monkeypatch):
     monkeypatch.setattr(OptimalControl, "_plan", original)
     kept = OptimalControl("time", reuse_contact=False).plan(second, warm_start=previous)
     assert kept.metadata["contact_from_warm_start"] is False
+
+
+def _moved_2_cm(ball, heading_deg):
+    """A benchmark shot (1 m/s) and the same shot with its ball 2 cm further along y."""
+    return tuple(
+        problems.sawyer_pool_shot(1.0, (ball[0], ball[1] + dy, ball[2]), heading_deg)
+        for dy in (0.0, 0.02)
+    )
+
+
+def test_a_warm_start_through_another_contact_branch_is_not_lent():
+    # Strike benchmark shot 35 of seed 11: the kept branch has no room after the ball moved,
+    # and the search chooses another; warm from the old branch this took 634 iterations.
+    first, moved = _moved_2_cm(
+        (0.6787860478501857, 0.11273030410957995, -0.0950677344620466), 12.075038611385985
+    )
+    planner = OptimalControl("time")
+    previous = planner.plan(first)
+    traj = planner.plan(moved, warm_start=previous)
+    meta = traj.metadata
+    assert meta["contact_from_warm_start"] is False
+    jump = np.abs(meta["contact_configuration"] - previous.metadata["contact_configuration"])
+    assert jump.max() > BRANCH_SPREAD
+    assert meta["warm_started"] is False and meta["iterations"] < 100
+    assert check(traj, moved).ok
+
+
+def test_a_warm_solve_that_does_not_converge_is_redone_cold():
+    # Strike benchmark shot 27 of seed 7: the search keeps the branch, but the previous
+    # multipliers lead IPOPT through 508 iterations; capped, the same primal point solves cold.
+    first, moved = _moved_2_cm(
+        (0.7210827554047025, 0.13168447027359653, -0.023475261672147738), 16.367172559622002
+    )
+    planner = OptimalControl("time")
+    traj = planner.plan(moved, warm_start=planner.plan(first))
+    meta = traj.metadata
+    assert meta["warm_started"] is True and meta["warm_abandoned"] is True
+    assert WARM_ITERATIONS < meta["iterations"] < 2 * WARM_ITERATIONS + 30
+    assert check(traj, moved).ok
+    # The iterations and times count the abandoned solve (the cold one alone takes 59).
+    assert meta["nlp_time"] > meta["evaluation_time"] > 0.0
 
 
 def test_planner_pickles_without_its_compiled_solvers():
