@@ -1163,7 +1163,7 @@ class OptimalControl:
                 )
                 failure.__cause__ = error
                 wall = time.perf_counter() - started
-                return _Call(np.zeros(0), {}, stats, wall, "", math.inf, failure)
+                return _Call(np.zeros(0), {}, stats, wall, math.inf, failure)
             wall = time.perf_counter() - started
             stats = solver.stats()
         w = np.asarray(result["x"]).reshape(-1)
@@ -1178,7 +1178,7 @@ class OptimalControl:
                 iterations=int(stats.get("iter_count", -1)),
                 detail=f"most violated: {worst_group} by {worst:.3g} (scaled)",
             )
-        return _Call(w, result, stats, wall, worst_group, worst, failure)
+        return _Call(w, result, stats, wall, worst, failure)
 
     def _solve(self, built: OptimalControlProblem) -> Trajectory:
         compiled = built.compiled
@@ -1343,8 +1343,7 @@ class _Call:
     result: dict[str, Any]  # the solver's outputs
     stats: dict[str, Any]  # the solver's statistics
     wall: float  # [s]
-    worst_group: str  # the most violated constraint group ...
-    worst: float  # ... and by how much (scaled)
+    worst: float  # violation of the most violated constraint group (scaled)
     error: SolverError | None  # why the call failed, or None
 
     def spent(self) -> tuple[int, float, float]:
