@@ -65,7 +65,12 @@ Verification
     ``position_rows=True`` has the rows from the first solve.
     The strike line is verified between nodes (quarter points of each interval); where the
     cue tip leaves its tolerance the strike phase gets twice the intervals and the NLP is
-    solved again. Judge the result with :func:`planners.check`, as for every planner.
+    solved again. In a slow strike the joint velocities and accelerations at the strike
+    nodes are bounded by what the line needs (:func:`strike_caps`): otherwise a
+    minimum-time plan spends the long window on self-motion of the redundant arm (it ends
+    the approach with the joints still moving fast and brakes them inside the window), and
+    that motion carries the cue off its line between nodes. Judge the result with
+    :func:`planners.check`, as for every planner.
 
 Build and solve apart
     :meth:`OptimalControl.build` returns an :class:`OptimalControlProblem` (the CasADi NLP,
@@ -217,6 +222,19 @@ MAX_SHRINK = 0.25
 KEPT_NODE_WEIGHT = 30.0
 #: Weight of the (scaled) jerks in that fit: small, it only settles what the states leave free.
 FIT_JERK_WEIGHT = 1e-3
+#: Strike-phase node velocities stay within this multiple of the contact choice's ratio (the
+#: largest fraction of a velocity limit the line needs) [-]; see :func:`strike_caps`.
+STRIKE_VELOCITY_ROOM = 3.0
+#: Strike-phase node accelerations stay within this multiple of the ratio squared (the
+#: accelerations the line needs grow with the square of its speed) [-]. Measured with
+#: ``OptimalControl("time")`` on the first 20 balls of ``benchmarks/strike.py`` at each
+#: speed, each planned after an untimed plan of it that compiles its NLPs: without bounds, at
+#: 0.1 m/s 18/20 shots needed a finer strike grid (median plan 1.04 s) and at 0.03 m/s 0/8
+#: passed (9 s each, the grid refined to its cap); with 3 and 10, 20/20 at 0.03, 0.1, 0.2,
+#: 0.5 and 1 m/s, medians 0.47, 0.31, 0.19, 0.12 and 0.11 s, motions up to 1 % longer at
+#: 0.1 m/s and unchanged from 0.5 m/s on (the bounds are past the limits there). A factor
+#: of 20 left 4/20 shots at 0.1 m/s needing a finer grid.
+STRIKE_ACCELERATION_ROOM = 10.0
 
 
 @dataclass(frozen=True)
@@ -1042,6 +1060,12 @@ class OptimalControl:
         ubx[layout.x_start : layout.u_start] = np.tile(-x_lower, layout.nodes)
         lbx[layout.u_start :] = -keep
         ubx[layout.u_start :] = keep
+        if spec.strike_phase >= 0 and spec.contact is not None:
+            caps = strike_caps(spec.contact.ratio, keep)
+            for node in range(int(first[spec.strike_phase]), int(first[spec.strike_phase + 1]) + 1):
+                for block, cap in ((1, caps[0]), (2, caps[1])):
+                    index = layout.x_index(node, block)
+                    lbx[index], ubx[index] = -cap, cap
         if shrink is not None:  # node position bounds moved in (fixed states override them)
             for node in range(layout.nodes):
                 index = layout.x_index(node, 0)
@@ -1259,6 +1283,26 @@ class OptimalControl:
             f"{type(problem).__name__}",
             name="problem",
         )
+
+
+def strike_caps(ratio: float, keep: float = 1.0) -> tuple[float, float]:
+    """Bounds of the strike nodes' joint velocities and accelerations, fractions of the limits.
+
+    Args:
+        ratio: The largest fraction of a joint velocity limit the strike line needs at the
+            requested speed (:attr:`planners.contact.ContactChoice.ratio`) [-].
+        keep: The bound without a cap, one less the planner's margin [-].
+
+    Returns:
+        ``(velocity, acceleration)``: :data:`STRIKE_VELOCITY_ROOM` times ``ratio`` and
+        :data:`STRIKE_ACCELERATION_ROOM` times its square, each at most ``keep`` [-].
+        A strike at 1 m/s on Sawyer needs ratios of about 0.5 to 0.9, so the caps bind only in
+        slower strikes.
+    """
+    return (
+        min(keep, STRIKE_VELOCITY_ROOM * ratio),
+        min(keep, STRIKE_ACCELERATION_ROOM * ratio * ratio),
+    )
 
 
 def _tightened(

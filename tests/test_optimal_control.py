@@ -31,6 +31,7 @@ from planners.optimal_control import (
     _position_excess,
     _shrunk,
     _tightened,
+    strike_caps,
 )
 from planners.transcription import WARM_ITERATIONS, compile_nlp
 from robots import SymbolicModel
@@ -72,6 +73,36 @@ def test_pool_strikes_at_1_m_s_pass_the_checker_or_say_why():
         assert traj.phase("strike").duration == pytest.approx(problem.window, abs=1e-9)
         solved += 1
     assert solved >= 19
+
+
+@pytest.mark.parametrize("speed", [0.01, 0.03])
+def test_slow_pool_strikes_pass_the_checker(speed):
+    # A window of 15 s or 5 s: without bounds on the strike nodes' velocities and
+    # accelerations a minimum-time plan filled it with self-motion, and the cue left its
+    # line between nodes however fine the strike grid (a SolverError after 8 rounds).
+    planner = OptimalControl("time")
+    for problem in _shots(2, speed=speed, seed=5):
+        traj = planner.plan(problem)
+        report = check(traj, problem)
+        assert report.ok, report.summary()
+        assert traj.phase("strike").duration == pytest.approx(problem.window, abs=1e-9)
+
+
+def test_strike_caps_bind_only_below_the_speeds_the_ratio_leaves_room_for():
+    assert strike_caps(0.9, 0.999) == (0.999, 0.999)
+    velocity, acceleration = strike_caps(0.01, 0.999)
+    assert velocity == pytest.approx(3.0 * 0.01) and acceleration == pytest.approx(10.0 * 1e-4)
+    built = OptimalControl("time").build(problems.sawyer_pool_shot(0.03))
+    layout, ratio = built.compiled.layout, built.contact.ratio
+    strike = slice(built.grids[0].intervals, built.grids[0].intervals + built.grids[1].intervals)
+    nodes = range(strike.start, strike.stop + 1)
+    caps = strike_caps(ratio, 1.0 - 1e-4)
+    for node in nodes:
+        for block, cap in ((1, caps[0]), (2, caps[1])):
+            index = layout.x_index(node, block)
+            assert np.all(built.ubx[index] == cap) and np.all(built.lbx[index] == -cap)
+    outside = layout.x_index(strike.start - 1, 1)
+    assert np.all(built.ubx[outside] > caps[0])
 
 
 def test_a_strike_faster_than_any_contact_allows_is_named_within_a_second():
