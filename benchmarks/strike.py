@@ -9,6 +9,9 @@ of their limits (worst joint, from the checker), the strike-line position and sp
 (from the checker) and the planning wall time. A planner raising an ``OptrajError`` fails the
 shot; the error classes are tallied.
 
+Then OptimalControl's solve times (cold, first plan, warm, with torque rows, against the
+grid) and its results on the same balls at strike speeds from 0.03 to 1.5 m/s.
+
 Writes ``benchmarks/results/strike.md`` (or ``--out``) and prints it.
 
 Usage: ``python benchmarks/strike.py [--shots 100] [--quick] [--out PATH]``
@@ -30,7 +33,7 @@ import numpy as np
 
 import problems
 from benchmarking import SEED, SPEED, pool_shots, progress, shot_arguments, write_report
-from optraj.errors import OptrajError
+from optraj.errors import InfeasibleError, OptrajError
 from planners.checker import Report, check
 from planners.classic_strike import ClassicStrike
 from planners.optimal_control import OptimalControl
@@ -49,6 +52,11 @@ TIMED_SHOTS = 40  # shots of the cold, first-plan and warm rows (p95 is not thei
 TORQUE_SHOTS = 10  # shots of the torque rows (each takes rounds of solves)
 GRID_SHOTS = 5  # shots timed at each grid size (medians)
 WEAK_SHOULDER = 0.1  # right_j0's effort limit in the binding-torque runs, of its rating [-]
+#: Strike speeds of the speed table [m/s]: slow strikes (long windows) to past the velocity
+#: limits of most contacts.
+SPEEDS = (0.03, 0.1, 0.3, 1.0, 1.5)
+QUICK_SPEEDS = (0.1, 1.0)
+SPEED_SHOTS = 10  # balls of the speed table, each struck at every speed
 #: Torque runs of the solve-time table: (row label, OptimalControl options, weak shoulder).
 TORQUE_RUNS: tuple[tuple[str, dict[str, Any], bool], ...] = (
     ("torque rows, linear", {"torque": True}, False),
@@ -238,6 +246,77 @@ def _compiled_then_timed(planner: OptimalControl, problem: problems.PoolStrike) 
     return _timed(planner, problem)
 
 
+def _variant(
+    shot: problems.PoolStrike, speed: float | None = None, shift: tuple[float, ...] = (0, 0, 0)
+) -> problems.PoolStrike:
+    """The shot's heading, its ball moved by ``shift`` [m], struck at ``speed`` (its own when
+    None) [m/s]."""
+    return problems.sawyer_pool_shot(
+        float(shot.speed) if speed is None else speed,
+        tuple(np.asarray(shot.ball) + np.asarray(shift, dtype=float)),
+        heading_deg=float(np.degrees(np.arctan2(shot.direction[1], shot.direction[0]))),
+    )
+
+
+def speed_section(shots: list[problems.PoolStrike], quick: bool = False) -> list[str]:
+    """OptimalControl (minimum time) on the same balls at each strike speed of the table."""
+    speeds = QUICK_SPEEDS if quick else SPEEDS
+    chosen = shots[: 1 if quick else SPEED_SHOTS]
+    planner = OptimalControl("time")
+    lines = [
+        "",
+        "## OptimalControl against the strike speed",
+        "",
+        f"Minimum time, the first {len(chosen)} balls and headings struck at each speed; each "
+        "plan timed after an untimed plan of it that compiles its NLPs. Passed: the checker "
+        "passes the trajectory (as above); refused: the contact choice's `InfeasibleError` "
+        "(no contact configuration reaches the speed within the velocity limits), raised "
+        "before any NLP; failed: any other `OptrajError`. Medians over the passed plans; "
+        "rounds: solves of the plan (more than one when the strike grid is refined, or torque "
+        "or position rows come in).",
+        "",
+        "| speed [m/s] | window [s] | passed | refused | failed | median plan [ms] "
+        "| p95 plan [ms] | median iterations | plans of more than one round "
+        "| median motion [s] |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for step, speed in enumerate(speeds):
+        progress(step, len(speeds), "optimal control against the speed")
+        passed: list[tuple[float, float, float, int]] = []
+        refused = failed = 0
+        for shot in chosen:
+            problem = _variant(shot, speed)
+            with contextlib.suppress(OptrajError):
+                planner.plan(problem)  # compiles this grid's NLPs
+            started = time.perf_counter()
+            try:
+                traj = planner.plan(problem)
+            except InfeasibleError:
+                refused += 1
+                continue
+            except OptrajError:
+                failed += 1
+                continue
+            wall = 1e3 * (time.perf_counter() - started)
+            if not check(traj, problem).ok:
+                failed += 1
+                continue
+            meta = traj.metadata
+            passed.append((wall, float(meta["iterations"]), traj.duration, int(meta["rounds"])))
+        walls = sorted(p[0] for p in passed)
+        p95 = _cell(walls[min(len(walls) - 1, int(0.95 * len(walls)))], 1) if walls else "-"
+        window = (chosen[0].run_up + chosen[0].follow_through) / speed
+        lines.append(
+            f"| {speed:g} | {window:.3g} | {len(passed)}/{len(chosen)} | {refused} | {failed} "
+            f"| {_cell(_median_or_nan(walls), 1)} | {p95} "
+            f"| {_cell(_median_or_nan([p[1] for p in passed]), 0)} "
+            f"| {sum(p[3] > 1 for p in passed)} "
+            f"| {_cell(_median_or_nan([p[2] for p in passed]), 3)} |"
+        )
+    progress(len(speeds), len(speeds), "optimal control against the speed")
+    return lines
+
+
 def extra_sections(shots: list[problems.PoolStrike], quick: bool = False) -> list[str]:
     """OptimalControl's solve times: cold, warm (ball moved 2 cm), torque rows, grid size."""
     count = 1 if quick else min(len(shots), TIMED_SHOTS)
@@ -256,11 +335,7 @@ def extra_sections(shots: list[problems.PoolStrike], quick: bool = False) -> lis
             # Untimed: compiles the warm-start solver of this grid, as the cold one already is.
             with contextlib.suppress(OptrajError):
                 plain.plan(shot, warm_start=previous)
-        moved = problems.sawyer_pool_shot(
-            float(shot.speed),
-            tuple(np.asarray(shot.ball) + np.array([0.0, 0.02, 0.0])),
-            heading_deg=float(np.degrees(np.arctan2(shot.direction[1], shot.direction[0]))),
-        )
+        moved = _variant(shot, shift=(0.0, 0.02, 0.0))
         first.append(_timed(OptimalControl("time"), moved))
         cold.append(_compiled_then_timed(plain, moved))
         if previous is not None:
@@ -370,6 +445,7 @@ def main(argv: list[str] | None = None) -> int:
         "(the IK solution nearest the start).",
     ]
     lines.extend(extra_sections(problems_, quick=args.quick))
+    lines.extend(speed_section(problems_, quick=args.quick))
     write_report(lines, out)
     return 0
 

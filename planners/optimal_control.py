@@ -22,6 +22,11 @@ Contact configuration
     (:func:`planners.contact.choose_contact`): the IK solution whose Jacobian lets the tool
     reach the strike speed with the smallest joint speeds. A strike no configuration can make
     is rejected there, within a second, with the binding joint and the best reachable speed.
+    That check covers the velocity limits only. Close to the fastest speed it allows, the
+    line can also need accelerations past their limits. IPOPT then finds the NLP infeasible,
+    but only after hundreds of iterations, and raises a ``SolverError``. Of 10 benchmark
+    balls at 1.5 m/s on Sawyer, 6 passed the check (ratios 0.91 to 0.999) and all 6 failed
+    this way, in 0.8 to 22 s (``benchmarks/results/strike.md``, speed table).
 
 Objectives
     ``"time"`` (sum of the free phase durations), ``"jerk"`` (integral of the squared

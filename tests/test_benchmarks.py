@@ -41,6 +41,15 @@ def test_strike_quick_run_writes_its_table(tmp_path, monkeypatch):
     assert module.main(["--quick"]) == 0
     text = (tmp_path / "strike.md").read_text()
     table, extras = text.split("## OptimalControl solve times")
+    extras, by_speed = extras.split("## OptimalControl against the strike speed")
+    speed_rows = [
+        [c.strip() for c in line.strip("|").split("|")]
+        for line in by_speed.splitlines()
+        if line.startswith("| ") and not line.startswith(("| speed", "|---"))
+    ]
+    assert [row[0] for row in speed_rows] == [f"{v:g}" for v in module.QUICK_SPEEDS]
+    for row in speed_rows:  # one ball at 0.1 and 1 m/s: planned, and passed by the checker
+        assert row[2] == "1/1" and row[3] == row[4] == "0"
     header = next(line for line in table.splitlines() if line.startswith("| planner |"))
     columns = [c.strip() for c in header.strip("|").split("|")]
     assert columns[:4] == ["planner", "success", "motion time [s]", "vs cubic"]
