@@ -27,6 +27,13 @@ Contact configuration
     but only after hundreds of iterations, and raises a ``SolverError``. Of 10 benchmark
     balls at 1.5 m/s on Sawyer, 6 passed the check (ratios 0.91 to 0.999) and all 6 failed
     this way, in 0.8 to 22 s (``benchmarks/results/strike.md``, speed table).
+    The chosen contact's ratio (the largest fraction of a velocity limit the line needs)
+    also bounds the joint velocities and accelerations at the strike nodes
+    (:func:`strike_caps`); the bounds come inside the limits when the ratio is below about
+    a third, in slow strikes. Without them a minimum-time plan spends a slow strike's long
+    window on self-motion of the redundant arm: it ends the approach with the joints still
+    moving fast and brakes them inside the window, and that motion carries the cue off its
+    line between nodes.
 
 Objectives
     ``"time"`` (sum of the free phase durations), ``"jerk"`` (integral of the squared
@@ -70,12 +77,7 @@ Verification
     ``position_rows=True`` has the rows from the first solve.
     The strike line is verified between nodes (quarter points of each interval); where the
     cue tip leaves its tolerance the strike phase gets twice the intervals and the NLP is
-    solved again. In a slow strike the joint velocities and accelerations at the strike
-    nodes are bounded by what the line needs (:func:`strike_caps`): otherwise a
-    minimum-time plan spends the long window on self-motion of the redundant arm (it ends
-    the approach with the joints still moving fast and brakes them inside the window), and
-    that motion carries the cue off its line between nodes. Judge the result with
-    :func:`planners.check`, as for every planner.
+    solved again. Judge the result with :func:`planners.check`, as for every planner.
 
 Build and solve apart
     :meth:`OptimalControl.build` returns an :class:`OptimalControlProblem` (the CasADi NLP,
@@ -176,6 +178,7 @@ __all__ = [
     "OptimalControlProblem",
     "PhaseGrid",
     "WarmStart",
+    "strike_caps",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -231,14 +234,15 @@ FIT_JERK_WEIGHT = 1e-3
 #: largest fraction of a velocity limit the line needs) [-]; see :func:`strike_caps`.
 STRIKE_VELOCITY_ROOM = 3.0
 #: Strike-phase node accelerations stay within this multiple of the ratio squared (the
-#: accelerations the line needs grow with the square of its speed) [-]. Measured with
-#: ``OptimalControl("time")`` on the first 20 balls of ``benchmarks/strike.py`` at each
-#: speed, each planned after an untimed plan of it that compiles its NLPs: without bounds, at
-#: 0.1 m/s 18/20 shots needed a finer strike grid (median plan 1.04 s) and at 0.03 m/s 0/8
-#: passed (9 s each, the grid refined to its cap); with 3 and 10, 20/20 at 0.03, 0.1, 0.2,
-#: 0.5 and 1 m/s, medians 0.47, 0.31, 0.19, 0.12 and 0.11 s, motions up to 1 % longer at
-#: 0.1 m/s and unchanged from 0.5 m/s on (the bounds are past the limits there). A factor
-#: of 20 left 4/20 shots at 0.1 m/s needing a finer grid.
+#: accelerations the line needs grow with the square of its speed) [-]. Tuned on Sawyer
+#: with ``OptimalControl("time")`` on the first 20 balls of ``benchmarks/strike.py`` at each
+#: speed, each planned after an untimed plan of it that compiles its NLPs. Without bounds:
+#: at 0.1 m/s 18/20 shots needed a finer strike grid (median plan 1.04 s), and the first 8
+#: balls at 0.03 m/s all failed (a SolverError after 8 rounds, about 9 s each). With 3 and
+#: 10: 20/20 at 0.03, 0.1, 0.2, 0.5 and 1 m/s, median plans 0.47, 0.31, 0.19, 0.12 and 0.11 s.
+#: Motions were up to 1 % longer at 0.1 m/s, within 0.01 % at 0.5 m/s and the same at 1 m/s
+#: (ratios 0.52 to 0.90 there, where both bounds lie past the limits). A factor of 20 left
+#: 4/20 shots at 0.1 m/s needing a finer grid.
 STRIKE_ACCELERATION_ROOM = 10.0
 
 
@@ -1295,15 +1299,26 @@ def strike_caps(ratio: float, keep: float = 1.0) -> tuple[float, float]:
 
     Args:
         ratio: The largest fraction of a joint velocity limit the strike line needs at the
-            requested speed (:attr:`planners.contact.ContactChoice.ratio`) [-].
-        keep: The bound without a cap, one less the planner's margin [-].
+            requested speed (:attr:`planners.contact.ContactChoice.ratio`), >= 0 [-].
+        keep: The bound without a cap, 1 minus the planner's margin, in (0, 1] [-].
 
     Returns:
         ``(velocity, acceleration)``: :data:`STRIKE_VELOCITY_ROOM` times ``ratio`` and
         :data:`STRIKE_ACCELERATION_ROOM` times its square, each at most ``keep`` [-].
         The 99 benchmark shots at 1 m/s that Sawyer can strike need ratios of 0.52 to 0.90,
         so the caps bind only in slower strikes.
+
+    Raises:
+        InvalidInputError: A ratio that is not a finite number >= 0, or ``keep`` outside
+            (0, 1].
     """
+    value = float(as_array(ratio, "ratio", ()))
+    if not 0.0 <= value < math.inf:
+        raise InvalidInputError(f"ratio must be a finite number >= 0, got {ratio!r}", name="ratio")
+    room = float(as_array(keep, "keep", ()))
+    if not 0.0 < room <= 1.0:
+        raise InvalidInputError(f"keep must be in (0, 1], got {keep!r}", name="keep")
+    ratio, keep = value, room
     return (
         min(keep, STRIKE_VELOCITY_ROOM * ratio),
         min(keep, STRIKE_ACCELERATION_ROOM * ratio * ratio),

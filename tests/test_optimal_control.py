@@ -85,24 +85,36 @@ def test_slow_pool_strikes_pass_the_checker(speed):
         traj = planner.plan(problem)
         report = check(traj, problem)
         assert report.ok, report.summary()
-        assert traj.phase("strike").duration == pytest.approx(problem.window, abs=1e-9)
 
 
-def test_strike_caps_bind_only_below_the_speeds_the_ratio_leaves_room_for():
+def test_strike_caps_bound_the_strike_nodes_only():
     assert strike_caps(0.9, 0.999) == (0.999, 0.999)
     velocity, acceleration = strike_caps(0.01, 0.999)
     assert velocity == pytest.approx(3.0 * 0.01) and acceleration == pytest.approx(10.0 * 1e-4)
-    built = OptimalControl("time").build(problems.sawyer_pool_shot(0.03))
+    planner = OptimalControl("time")
+    keep = 1.0 - planner.margin
+    built = planner.build(problems.sawyer_pool_shot(0.03))
     layout, ratio = built.compiled.layout, built.contact.ratio
-    strike = slice(built.grids[0].intervals, built.grids[0].intervals + built.grids[1].intervals)
-    nodes = range(strike.start, strike.stop + 1)
-    caps = strike_caps(ratio, 1.0 - 1e-4)
-    for node in nodes:
-        for block, cap in ((1, caps[0]), (2, caps[1])):
+    assert 0.0 < ratio < 0.05  # 0.03 m/s needs a few percent of the velocity limits
+    first = built.grids[0].intervals  # the approach's last node starts the strike
+    last = first + built.grids[1].intervals
+    for node in (first - 1, *range(first, last + 1), last + 1):
+        inside = first <= node <= last
+        for block, cap in ((1, 3.0 * ratio), (2, 10.0 * ratio**2)):
             index = layout.x_index(node, block)
-            assert np.all(built.ubx[index] == cap) and np.all(built.lbx[index] == -cap)
-    outside = layout.x_index(strike.start - 1, 1)
-    assert np.all(built.ubx[outside] > caps[0])
+            expected = cap if inside else keep
+            assert built.ubx[index] == pytest.approx(np.full(7, expected), rel=1e-12)
+            assert built.lbx[index] == pytest.approx(np.full(7, -expected), rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("ratio", "keep", "name"),
+    [(-0.1, 1.0, "ratio"), (float("nan"), 1.0, "ratio"), (0.5, 0.0, "keep"), (0.5, 1.5, "keep")],
+)
+def test_strike_caps_name_bad_input(ratio, keep, name):
+    with pytest.raises(InvalidInputError) as info:
+        strike_caps(ratio, keep)
+    assert info.value.name == name
 
 
 def test_a_strike_faster_than_any_contact_allows_is_named_within_a_second():
