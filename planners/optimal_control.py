@@ -1318,10 +1318,9 @@ def strike_caps(ratio: float, keep: float = 1.0) -> tuple[float, float]:
     room = float(as_array(keep, "keep", ()))
     if not 0.0 < room <= 1.0:
         raise InvalidInputError(f"keep must be in (0, 1], got {keep!r}", name="keep")
-    ratio, keep = value, room
     return (
-        min(keep, STRIKE_VELOCITY_ROOM * ratio),
-        min(keep, STRIKE_ACCELERATION_ROOM * ratio * ratio),
+        min(room, STRIKE_VELOCITY_ROOM * value),
+        min(room, STRIKE_ACCELERATION_ROOM * value * value),
     )
 
 
