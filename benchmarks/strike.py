@@ -269,44 +269,40 @@ def speed_section(shots: list[problems.PoolStrike], quick: bool = False) -> list
         "## OptimalControl against the strike speed",
         "",
         f"Minimum time, the first {len(chosen)} balls and headings struck at each speed. Each "
-        "shot is planned once untimed, which compiles its NLPs, and then once timed. Passed: "
-        "the checker passes the trajectory (as above). Refused: the contact choice's "
-        "`InfeasibleError` for the velocity limits (no contact configuration found reaches "
-        "the speed), raised before any NLP. Failed: any other `OptrajError`, or a trajectory "
-        "the checker fails. A shot whose untimed plan raises is counted by that error and not "
-        "planned again. Plan times, iterations and motions are medians over the passed "
-        "shots. Rounds are the solves of a plan: more than one when the strike grid is "
-        "refined, or when torque or position rows come in.",
+        "shot is planned once untimed, which compiles its NLPs, and then once timed; the "
+        "timed plan counts. Passed: the checker passes the trajectory (as above). Refused: "
+        "the contact choice's `InfeasibleError` for the velocity limits (no contact "
+        "configuration found reaches the speed), raised before any NLP. Failed: any other "
+        "`OptrajError`, or a trajectory the checker fails. Plan times, iterations and "
+        "motions are medians over the passed shots; time to an error is the longest timed "
+        "plan that raised (refused or failed). Rounds are the solves of a plan: more than one "
+        "when the strike grid is refined, or when torque or position rows come in.",
         "",
         "| speed [m/s] | window [s] | passed | refused | failed | median plan [ms] "
         "| max plan [ms] | median iterations | plans of more than one round "
-        "| median motion [s] |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "| median motion [s] | max time to an error [ms] |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for step, speed in enumerate(speeds):
         progress(step, len(speeds), "optimal control against the speed")
         passed: list[tuple[float, float, float, int]] = []
+        errors: list[float] = []  # wall times of the timed plans that raised [ms]
         refused = failed = 0
         window = math.nan
         for shot in chosen:
             problem = _variant(shot, speed)
             window = problem.window
-            try:
+            with contextlib.suppress(OptrajError):
                 planner.plan(problem)  # untimed: compiles this shot's NLPs
-            except InfeasibleError as exc:
-                if exc.limit == "velocity":
-                    refused += 1
-                else:
-                    failed += 1
-                continue
-            except OptrajError:
-                failed += 1
-                continue
             started = time.perf_counter()
             try:
                 traj = planner.plan(problem)
-            except OptrajError:
-                failed += 1
+            except OptrajError as exc:
+                errors.append(1e3 * (time.perf_counter() - started))
+                if isinstance(exc, InfeasibleError) and exc.limit == "velocity":
+                    refused += 1
+                else:
+                    failed += 1
                 continue
             wall = 1e3 * (time.perf_counter() - started)
             if not check(traj, problem).ok:
@@ -320,7 +316,8 @@ def speed_section(shots: list[problems.PoolStrike], quick: bool = False) -> list
             f"| {_cell(_median_or_nan(walls), 1)} | {_cell(max(walls, default=math.nan), 1)} "
             f"| {_cell(_median_or_nan([p[1] for p in passed]), 0)} "
             f"| {sum(p[3] > 1 for p in passed)} "
-            f"| {_cell(_median_or_nan([p[2] for p in passed]), 3)} |"
+            f"| {_cell(_median_or_nan([p[2] for p in passed]), 3)} "
+            f"| {_cell(max(errors, default=math.nan), 1)} |"
         )
     progress(len(speeds), len(speeds), "optimal control against the speed")
     return lines

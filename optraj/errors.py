@@ -31,7 +31,26 @@ __all__ = [
 
 
 class OptrajError(Exception):
-    """Root of every error raised by optraj on bad input or failed planning."""
+    """Root of every error raised by optraj on bad input or failed planning.
+
+    Errors pickle with their message and attributes (a plan run in a worker process raises
+    the same error, with the same data, in the caller).
+    """
+
+    def __reduce__(self) -> tuple[object, ...]:
+        # The subclasses' constructors take the data the message is made from, not the
+        # message: rebuild from the message and the attributes instead of calling them.
+        return (_rebuilt, (type(self), self.args, dict(self.__dict__)))
+
+
+def _rebuilt(
+    cls: type[OptrajError], args: tuple[object, ...], state: dict[str, object]
+) -> OptrajError:
+    """An error of class ``cls`` with the given ``args`` and attributes (for unpickling)."""
+    error = cls.__new__(cls, *args)
+    error.args = args
+    error.__dict__.update(state)
+    return error
 
 
 class InvalidInputError(OptrajError, ValueError):
@@ -213,6 +232,7 @@ class SolverError(OptrajError):
         solver: Solver name, e.g. ``"ipopt"``.
         status: The solver's own status string.
         iterations: Iterations done, if known.
+        detail: What else is known of the failure (may be empty).
     """
 
     def __init__(
@@ -221,6 +241,7 @@ class SolverError(OptrajError):
         self.solver = solver
         self.status = status
         self.iterations = iterations
+        self.detail = detail
         text = f"solver {solver!r} failed with status {status!r}"
         if iterations is not None:
             text += f" after {iterations} iterations"

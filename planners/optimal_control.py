@@ -23,10 +23,15 @@ Contact configuration
     reach the strike speed with the smallest joint speeds. A strike no configuration can make
     is rejected there, within a second, with the binding joint and the best reachable speed.
     That check covers the velocity limits only. Close to the fastest speed it allows, the
-    line can also need accelerations past their limits. IPOPT then finds the NLP infeasible,
-    but only after hundreds of iterations, and raises a ``SolverError``. Of 10 benchmark
-    balls at 1.5 m/s on Sawyer, 6 passed the check (ratios 0.91 to 0.999) and all 6 failed
-    this way, in 0.8 to 22 s (``benchmarks/results/strike.md``, speed table).
+    line can also need accelerations past their limits; IPOPT then finds the NLP locally
+    infeasible and the plan raises a ``SolverError`` whose message adds, when every contact
+    tried needs at least :data:`TIGHT_RATIO` of a velocity limit, that ratio, the binding
+    joint and the fastest speed the velocity limits allow. Of 10 benchmark balls at 1.5 m/s
+    on Sawyer, 6 pass the check (ratios 0.91 to 0.999) and fail this way, each after up to
+    four contact configurations have been tried (``benchmarks/results/strike.md``, speed
+    table, the time to an error). A bound on the accelerations at contact alone would not
+    catch them: along the self-motion of the contact configuration, 4 of the 6 have one
+    whose velocities and accelerations both fit.
     The chosen contact's ratio (the largest fraction of a velocity limit the line needs)
     also bounds the joint velocities and accelerations at the strike nodes
     (:func:`strike_caps`); the bounds come inside the limits when the ratio is below about
@@ -244,6 +249,11 @@ STRIKE_VELOCITY_ROOM = 3.0
 #: (ratios 0.52 to 0.90 there, where both bounds lie past the limits). A factor of 20 left
 #: 4/20 shots at 0.1 m/s needing a finer grid.
 STRIKE_ACCELERATION_ROOM = 10.0
+#: A pool strike whose contact configurations all need at least this fraction of a velocity
+#: limit is near the fastest speed they allow; when it fails, its error says so [-]. The
+#: contact choice's own threshold for room to spare
+#: (``planners.contact.choose_contact``).
+TIGHT_RATIO = 0.9
 
 
 @dataclass(frozen=True)
@@ -605,15 +615,17 @@ class OptimalControl:
         if self.reuse_contact and isinstance(problem, PoolStrike):
             seeded = _contact_from(problem, warm_start)
             searching = time.perf_counter() - started
+        tried_choices: list[ContactChoice] = []
         if seeded is not None:
             tried.append(seeded.q)
+            tried_choices.append(seeded)
             outcome = self._attempt(
                 problem, seeded, warm_start, len(tried), started, searching, True
             )
             if isinstance(outcome, Trajectory):
                 return outcome
             if self.contact_retries == 0:
-                raise outcome  # the one configuration allowed
+                raise _near_the_limit(outcome, problem, [seeded])  # the one allowed
             failure, warm_start = outcome, None
         if not isinstance(problem, PoolStrike) or self.contact_retries == 0:
             spec = self._spec(problem)
@@ -635,6 +647,7 @@ class OptimalControl:
                 searching += time.perf_counter() - searched
             for choice in choices:
                 tried.append(choice.q)
+                tried_choices.append(choice)
                 # None after a seeded try, or for a choice on another branch than its own.
                 lend = len(tried) == 1 and _lends_to(problem, warm_start, choice)
                 start = warm_start if lend else None
@@ -646,7 +659,7 @@ class OptimalControl:
                 failure = outcome
         if failure is None:  # pragma: no cover - the first search returns at least one branch
             raise SolverError(self.solver, "no contact configuration to solve from")
-        raise failure
+        raise _near_the_limit(failure, problem, tried_choices)
 
     def _attempt(
         self,
@@ -976,6 +989,16 @@ class OptimalControl:
                     # iteration, the same iterates (20 strike shots cold and warm, A/B
                     # twice, identical iteration counts).
                     "ipopt.min_refinement_steps": 0,
+                    # IPOPT's heuristics for problems that may be infeasible: the restoration
+                    # phase starts sooner and must cut the violation further before it ends;
+                    # they switch off once the violation falls below 1e-3, so a feasible
+                    # solve is untouched. Sawyer pool strikes at 1.5 m/s that pass the contact
+                    # choice but need more acceleration than the limits give on the line (6 of
+                    # the 10 speed-table balls): 1.0 to 21.0 s, 33.4 s in all, before the
+                    # SolverError without them, 0.4 to 3.2 s, 8.8 s in all, with them. The
+                    # same iterates on 30 shots at 1 m/s, 10 at 0.03 and 0.3 m/s, and the
+                    # 18 that plan at 1.2 and 1.35 m/s.
+                    "ipopt.expect_infeasible_problem": "yes",
                 }
             )
         elif self.solver == "sqpmethod":
@@ -1765,6 +1788,36 @@ def _checked_warm_start(problem: Any, warm_start: Any) -> Trajectory | None:
             name="warm_start",
         )
     return warm_start
+
+
+def _near_the_limit(
+    failure: SolverError, problem: PoolStrike, choices: list[ContactChoice]
+) -> SolverError:
+    """The pool strike's last solver error, with a hint when the strike is near its limit.
+
+    When every contact configuration tried needs at least :data:`TIGHT_RATIO` of a velocity
+    limit, the error also says so, with the fastest speed the best of them allows: close to
+    that speed the line can need accelerations past their limits, which the contact choice
+    does not check. The hint is not a bound: the speed it names is the velocity limits'.
+    """
+    if not choices:
+        return failure
+    best = min(choices, key=lambda choice: choice.ratio)
+    if best.ratio < TIGHT_RATIO:
+        return failure
+    speed = float(problem.speed)
+    hint = (
+        f"at {speed:.3g} m/s the contact configurations tried need at least {best.ratio:.3g} "
+        f"of a velocity limit ({best.binding_joint} binds; the best of them allows up to "
+        f"{best.max_speed:.3g} m/s within the velocity limits); this close to that speed the "
+        f"strike line can need more acceleration than the limits give: a slower strike may plan"
+    )
+    return SolverError(
+        failure.solver,
+        failure.status,
+        iterations=failure.iterations,
+        detail=f"{failure.detail}; {hint}" if failure.detail else hint,
+    )
 
 
 def _previous_contact(problem: PoolStrike, warm_start: Trajectory | None) -> FloatArray | None:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pickle
+
 import pytest
 
 import optraj
@@ -81,3 +83,27 @@ def test_path_jump_error_names_time_joint_and_size():
     assert "t = 0.42 s: joint 'right_j5' changes by 1.3" in str(exc)
     assert (exc.time, exc.joint, exc.jump, exc.threshold) == (0.42, "right_j5", 1.3, 0.1)
     assert issubclass(errors.PathJumpWarning, UserWarning)
+
+
+@pytest.mark.parametrize(
+    "error",
+    [
+        errors.InvalidInputError("speed must be >= 0 m/s, got -1 m/s", name="speed", value=-1.0),
+        errors.UnknownNameError("robot", "sawer", ["paddle4", "sawyer"]),
+        errors.MissingDependencyError("mujoco", "sim", "the MuJoCo plant"),
+        errors.JointLimitError("J4", 1.9, -1.5708, 1.5708, unit="rad", context="IK"),
+        errors.WorkspaceError((2.0, 0.0, 0.5), "x", 2.0, -1.0, 1.0),
+        errors.UnreachableError("no IK", position_error=0.1, orientation_error=0.0, attempts=4),
+        errors.InfeasibleError("too fast", limit="velocity", joint="J1", required=3.0, allowed=2.0),
+        errors.SolverError("ipopt", "Infeasible_Problem_Detected", iterations=9, detail="why"),
+        errors.CompilerError("gcc", "not found"),
+        errors.PathJumpError(0.5, "J2", 0.8, 0.1),
+    ],
+    ids=lambda error: type(error).__name__,
+)
+def test_errors_pickle_with_their_message_and_data(error):
+    error.extra = 1.25  # attributes set after construction (as max_speed is) travel too
+    copy = pickle.loads(pickle.dumps(error))
+    assert type(copy) is type(error)
+    assert str(copy) == str(error) and copy.args == error.args
+    assert vars(copy) == vars(error)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import pickle
+import re
 import time
 
 import casadi as ca
@@ -20,7 +21,7 @@ from optraj.errors import (
     UnknownNameError,
 )
 from planners import Quintic, Trajectory, check, lower_bound
-from planners.contact import BRANCH_SPREAD
+from planners.contact import BRANCH_SPREAD, ContactChoice
 from planners.optimal_control import (
     POSITION_SHRINKS,
     SHRINK_EXTRA,
@@ -28,6 +29,7 @@ from planners.optimal_control import (
     WarmStart,
     _constraint_duals,
     _integrable,
+    _near_the_limit,
     _position_excess,
     _shrunk,
     _tightened,
@@ -131,6 +133,46 @@ def test_a_strike_faster_than_any_contact_allows_is_named_within_a_second():
         assert error.required > error.allowed
         assert 0.0 < error.max_speed < 2.5  # the best reachable speed, in the message too
         assert f"{error.max_speed:.3g} m/s" in str(error)
+
+
+def test_a_strike_too_close_to_its_limit_fails_with_the_tight_ratio_named():
+    # Strike benchmark ball 3 at 1.5 m/s: every contact found needs >= 0.99 of right_j0's
+    # velocity limit at contact, and the line then needs more acceleration than the limits
+    # give (the contact choice, which checks velocities only, lets it through).
+    problem = problems.sawyer_pool_shot(
+        1.5, (0.7009739175308249, 0.10577670705892629, -0.04954517410420467), 2.1398940829796977
+    )
+    with pytest.raises(SolverError) as info:
+        OptimalControl("time").plan(problem)
+    error = info.value
+    assert error.status == "Infeasible_Problem_Detected"
+    found = re.search(r"need at least ([0-9.]+) of a velocity limit \((\w+) binds", str(error))
+    assert found is not None and float(found[1]) >= 0.9
+    assert found[2] in problem.robot.joint_names
+    fastest = float(re.search(r"allows up to ([0-9.]+) m/s", str(error))[1])
+    assert 1.5 <= fastest < 1.5 / 0.9  # at least the strike's speed: the velocities fit
+    assert "most violated" in error.detail  # the solver's own report is kept
+
+
+def test_a_failed_strike_with_room_keeps_the_solver_error_as_it_was():
+    problem = problems.sawyer_pool_shot(1.0)
+    failure = SolverError("ipopt", "Infeasible_Problem_Detected", iterations=7, detail="x")
+    roomy = ContactChoice(
+        q=np.zeros(7),
+        qd=np.zeros(7),
+        ratio=0.89,
+        max_speed=1.12,
+        binding_joint="right_j1",
+        candidates=1,
+    )
+    assert _near_the_limit(failure, problem, [roomy]) is failure
+    assert _near_the_limit(failure, problem, []) is failure
+    tight = dataclasses.replace(roomy, ratio=0.95, max_speed=1.05)
+    hinted = _near_the_limit(failure, problem, [tight, dataclasses.replace(tight, ratio=0.97)])
+    assert (hinted.solver, hinted.status, hinted.iterations) == ("ipopt", failure.status, 7)
+    assert hinted.detail.startswith("x; at 1 m/s the contact configurations tried need at ")
+    assert "least 0.95 of a velocity limit (right_j1 binds" in hinted.detail
+    assert "up to 1.05 m/s" in hinted.detail
 
 
 def _paddle_problems(count: int, seed: int = 3):
