@@ -48,7 +48,8 @@ def _rebuilt(
 ) -> OptrajError:
     """An error of class ``cls`` with the given ``args`` and attributes (for unpickling)."""
     error = cls.__new__(cls, *args)
-    error.args = args
+    # The built-in base's own initialiser (ImportError keeps its message in ``msg``).
+    super(OptrajError, error).__init__(*args)
     error.__dict__.update(state)
     return error
 

@@ -25,13 +25,11 @@ Contact configuration
     That check covers the velocity limits only. Close to the fastest speed it allows, the
     line can also need accelerations past their limits; IPOPT then finds the NLP locally
     infeasible and the plan raises a ``SolverError`` whose message adds, when every contact
-    tried needs at least :data:`TIGHT_RATIO` of a velocity limit, that ratio, the binding
+    tried needs more than :data:`TIGHT_RATIO` of a velocity limit, that ratio, the binding
     joint and the fastest speed the velocity limits allow. Of 10 benchmark balls at 1.5 m/s
-    on Sawyer, 6 pass the check (ratios 0.91 to 0.999) and fail this way, each after up to
-    four contact configurations have been tried (``benchmarks/results/strike.md``, speed
-    table, the time to an error). A bound on the accelerations at contact alone would not
-    catch them: along the self-motion of the contact configuration, 4 of the 6 have one
-    whose velocities and accelerations both fit.
+    on Sawyer, 6 pass the check (ratios 0.91 to 0.999) and fail this way, after every
+    contact configuration the two contact searches offer has been tried
+    (``benchmarks/results/strike.md``, speed table, the time to an error).
     The chosen contact's ratio (the largest fraction of a velocity limit the line needs)
     also bounds the joint velocities and accelerations at the strike nodes
     (:func:`strike_caps`); the bounds come inside the limits when the ratio is below about
@@ -249,11 +247,13 @@ STRIKE_VELOCITY_ROOM = 3.0
 #: (ratios 0.52 to 0.90 there, where both bounds lie past the limits). A factor of 20 left
 #: 4/20 shots at 0.1 m/s needing a finer grid.
 STRIKE_ACCELERATION_ROOM = 10.0
-#: A pool strike whose contact configurations all need at least this fraction of a velocity
-#: limit is near the fastest speed they allow; when it fails, its error says so [-]. The
-#: contact choice's own threshold for room to spare
+#: A pool strike whose contact configurations all need more than this fraction of a velocity
+#: limit is near the fastest speed they allow; when the NLP is found infeasible, its error
+#: says so [-]. The contact choice's own threshold for room to spare
 #: (``planners.contact.choose_contact``).
 TIGHT_RATIO = 0.9
+#: The solver statuses of an NLP found (locally) infeasible.
+INFEASIBLE_STATUSES = frozenset({"Infeasible_Problem_Detected", "Restoration_Failed"})
 
 
 @dataclass(frozen=True)
@@ -601,7 +601,10 @@ class OptimalControl:
                 joint and the best reachable speed), a fixed duration shorter than the limits
                 allow, or torque limits that stay exceeded.
             SolverError: The solver failed; its status and the most violated constraint
-                group are in the message.
+                group are in the message (for a pool strike, the last contact tried). A pool
+                strike found infeasible that needs more than :data:`TIGHT_RATIO` of a
+                velocity limit at every contact tried also has that ratio, the binding joint
+                and the fastest speed the velocity limits allow in it.
             InvalidInputError: An unsupported problem.
         """
         started = time.perf_counter()
@@ -615,21 +618,25 @@ class OptimalControl:
         if self.reuse_contact and isinstance(problem, PoolStrike):
             seeded = _contact_from(problem, warm_start)
             searching = time.perf_counter() - started
-        tried_choices: list[ContactChoice] = []
+        found: list[ContactChoice] = []  # the searches' choices tried (for the hint)
         if seeded is not None:
             tried.append(seeded.q)
-            tried_choices.append(seeded)
             outcome = self._attempt(
                 problem, seeded, warm_start, len(tried), started, searching, True
             )
             if isinstance(outcome, Trajectory):
                 return outcome
             if self.contact_retries == 0:
-                raise _near_the_limit(outcome, problem, [seeded])  # the one allowed
+                raise outcome  # the one configuration allowed
             failure, warm_start = outcome, None
         if not isinstance(problem, PoolStrike) or self.contact_retries == 0:
             spec = self._spec(problem)
-            traj = self._plan(problem, spec, warm_start)
+            try:
+                traj = self._plan(problem, spec, warm_start)
+            except SolverError as error:
+                if not isinstance(problem, PoolStrike) or spec.contact is None:
+                    raise
+                raise _near_the_limit(error, problem, [spec.contact]) from error.__cause__
             return stamp(traj, self.name, started, contact_time=searching + spec.contact_time)
         # The contact search once as set, then once more over twice as many candidates for
         # branches it missed; a warm start fits the first branch only.
@@ -647,7 +654,7 @@ class OptimalControl:
                 searching += time.perf_counter() - searched
             for choice in choices:
                 tried.append(choice.q)
-                tried_choices.append(choice)
+                found.append(choice)
                 # None after a seeded try, or for a choice on another branch than its own.
                 lend = len(tried) == 1 and _lends_to(problem, warm_start, choice)
                 start = warm_start if lend else None
@@ -659,7 +666,7 @@ class OptimalControl:
                 failure = outcome
         if failure is None:  # pragma: no cover - the first search returns at least one branch
             raise SolverError(self.solver, "no contact configuration to solve from")
-        raise _near_the_limit(failure, problem, tried_choices)
+        raise _near_the_limit(failure, problem, found) from failure.__cause__
 
     def _attempt(
         self,
@@ -989,15 +996,19 @@ class OptimalControl:
                     # iteration, the same iterates (20 strike shots cold and warm, A/B
                     # twice, identical iteration counts).
                     "ipopt.min_refinement_steps": 0,
-                    # IPOPT's heuristics for problems that may be infeasible: the restoration
-                    # phase starts sooner and must cut the violation further before it ends;
-                    # they switch off once the violation falls below 1e-3, so a feasible
-                    # solve is untouched. Sawyer pool strikes at 1.5 m/s that pass the contact
-                    # choice but need more acceleration than the limits give on the line (6 of
-                    # the 10 speed-table balls): 1.0 to 21.0 s, 33.4 s in all, before the
-                    # SolverError without them, 0.4 to 3.2 s, 8.8 s in all, with them. The
-                    # same iterates on 30 shots at 1 m/s, 10 at 0.03 and 0.3 m/s, and the
-                    # 18 that plan at 1.2 and 1.35 m/s.
+                    # IPOPT's heuristics for problems that may be infeasible: while the
+                    # violation is above 1e-3 (expect_infeasible_problem_ctol) and until the
+                    # first restoration phase, the line search turns to restoration sooner
+                    # (no watchdog or soft restoration), and restoration must cut the
+                    # violation further before it ends. Measured with a fresh planner per
+                    # shot on Sawyer pool strikes of the speed table's 10 balls: at 1.5 m/s
+                    # the 6 that pass the contact choice but need more acceleration than the
+                    # limits give on the line took 1.0 to 21.0 s (33.4 s in all) to their
+                    # SolverError without them, 0.4 to 3.2 s (8.8 s) with them; the same
+                    # iterates with and without on the first 30 benchmark shots at 1 m/s, 10
+                    # at 0.03 and 0.3 m/s, the 18 of the 10 balls that plan at 1.2 and
+                    # 1.35 m/s, and the test suite's 20 paddle4 strikes, 20 minimum-time and
+                    # 10 minimum-jerk Sawyer moves and 10 youBot moves with a jerk weight.
                     "ipopt.expect_infeasible_problem": "yes",
                 }
             )
@@ -1795,22 +1806,32 @@ def _near_the_limit(
 ) -> SolverError:
     """The pool strike's last solver error, with a hint when the strike is near its limit.
 
-    When every contact configuration tried needs at least :data:`TIGHT_RATIO` of a velocity
-    limit, the error also says so, with the fastest speed the best of them allows: close to
-    that speed the line can need accelerations past their limits, which the contact choice
-    does not check. The hint is not a bound: the speed it names is the velocity limits'.
+    When the solver found the NLP (locally) infeasible (:data:`INFEASIBLE_STATUSES`) and
+    every contact configuration of the contact search that was tried needs more than
+    :data:`TIGHT_RATIO` of a velocity limit, the error also says so, with the fastest speed
+    the best of them allows: close to that speed the line can need accelerations past their
+    limits, which the contact choice does not check. The hint is not a bound: the speed it
+    names is the velocity limits'. A contact kept from a warm start has room to spare by
+    construction (:func:`planners.contact.contact_near`) and is not counted. Otherwise the
+    error is returned as it was.
     """
-    if not choices:
+    if not choices or failure.status not in INFEASIBLE_STATUSES:
         return failure
     best = min(choices, key=lambda choice: choice.ratio)
-    if best.ratio < TIGHT_RATIO:
+    if best.ratio <= TIGHT_RATIO:
         return failure
     speed = float(problem.speed)
+    tried = (
+        "the contact configuration tried needs"
+        if len(choices) == 1
+        else (f"the {len(choices)} contact configurations tried need")
+    )
     hint = (
-        f"at {speed:.3g} m/s the contact configurations tried need at least {best.ratio:.3g} "
-        f"of a velocity limit ({best.binding_joint} binds; the best of them allows up to "
-        f"{best.max_speed:.3g} m/s within the velocity limits); this close to that speed the "
-        f"strike line can need more acceleration than the limits give: a slower strike may plan"
+        f"at {speed:.3g} m/s {tried} at least {100.0 * best.ratio:.1f} % of a velocity limit "
+        f"({best.binding_joint} binds; {'it allows' if len(choices) == 1 else 'the best allows'} "
+        f"up to {best.max_speed:.4g} m/s within the velocity limits); this close to that speed "
+        f"the strike line can need more acceleration than the limits give: a slower strike "
+        f"may plan"
     )
     return SolverError(
         failure.solver,

@@ -48,9 +48,11 @@ def test_strike_quick_run_writes_its_table(tmp_path, monkeypatch):
         if line.startswith("| ") and not line.startswith(("| speed", "|---"))
     ]
     assert [row[0] for row in speed_rows] == [f"{v:g}" for v in module.QUICK_SPEEDS]
+    speed_header = next(line for line in by_speed.splitlines() if line.startswith("| speed"))
+    assert speed_header.rstrip(" |").endswith("| max time to an error [ms]")
     for row in speed_rows:  # one ball at 0.1 and 1 m/s: planned, and passed by the checker
         assert row[2] == "1/1" and row[3] == row[4] == "0"
-        assert row[-1] == "-"  # no plan raised, so no time to an error
+        assert len(row) == 11 and row[-1] == "-"  # no plan raised: no time to an error
     header = next(line for line in table.splitlines() if line.startswith("| planner |"))
     columns = [c.strip() for c in header.strip("|").split("|")]
     assert columns[:4] == ["planner", "success", "motion time [s]", "vs cubic"]

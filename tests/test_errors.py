@@ -107,3 +107,5 @@ def test_errors_pickle_with_their_message_and_data(error):
     assert type(copy) is type(error)
     assert str(copy) == str(error) and copy.args == error.args
     assert vars(copy) == vars(error)
+    if isinstance(error, ImportError):
+        assert copy.msg == error.msg
