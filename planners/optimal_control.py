@@ -1821,14 +1821,14 @@ def _near_the_limit(
     if best.ratio <= TIGHT_RATIO:
         return failure
     speed = float(problem.speed)
-    tried = (
-        "the contact configuration tried needs"
+    tried, allows = (
+        ("the contact configuration tried needs", "it allows")
         if len(choices) == 1
-        else (f"the {len(choices)} contact configurations tried need")
+        else (f"the {len(choices)} contact configurations tried need", "the best allows")
     )
     hint = (
         f"at {speed:.3g} m/s {tried} at least {100.0 * best.ratio:.1f} % of a velocity limit "
-        f"({best.binding_joint} binds; {'it allows' if len(choices) == 1 else 'the best allows'} "
+        f"({best.binding_joint} binds; {allows} "
         f"up to {best.max_speed:.4g} m/s within the velocity limits); this close to that speed "
         f"the strike line can need more acceleration than the limits give: a slower strike "
         f"may plan"
