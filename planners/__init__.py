@@ -26,6 +26,7 @@ from planners.time_scaling import Cubic, Quintic
 from planners.toppra_planner import Toppra
 from planners.trajectory import Phase, Trajectory, TrajectorySample
 from planners.via_points import ViaPoints
+from planners.window_check import WindowCheck, WindowRatio
 
 __all__ = [
     "LSPB",
@@ -51,6 +52,8 @@ __all__ = [
     "Trajectory",
     "TrajectorySample",
     "ViaPoints",
+    "WindowCheck",
+    "WindowRatio",
     "check",
     "choose_contact",
     "contact_choices",

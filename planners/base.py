@@ -8,6 +8,7 @@ their moves.
 
 from __future__ import annotations
 
+import threading
 import time
 from abc import ABC, abstractmethod
 from typing import Any, Protocol, runtime_checkable
@@ -21,7 +22,31 @@ from planners.trajectory import Phase, Trajectory
 from problems import PointToPoint
 from robots import JointLimits
 
-__all__ = ["JointProfile", "Planner", "rest_to_rest_inputs", "stamp"]
+__all__ = ["CompiledCache", "JointProfile", "Planner", "rest_to_rest_inputs", "stamp"]
+
+
+class CompiledCache:
+    """Pickles without its compiled solvers and its lock; the solvers are rebuilt on demand.
+
+    A subclass keeps its caches (dicts) in the attributes :attr:`caches` names and a
+    ``threading.Lock`` in ``_lock``; a copy, e.g. in a worker process, starts them empty.
+    """
+
+    caches: tuple[str, ...] = ("_compiled",)
+    _lock: threading.Lock
+
+    def __getstate__(self) -> dict[str, Any]:
+        """State without the compiled solvers and the lock."""
+        state = self.__dict__.copy()
+        for name in self.caches:
+            state[name] = {}
+        del state["_lock"]
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """Restore from :meth:`__getstate__`."""
+        self.__dict__.update(state)
+        self._lock = threading.Lock()
 
 
 @runtime_checkable

@@ -142,7 +142,7 @@ from optraj.errors import (
     UnknownNameError,
 )
 from optraj.validation import as_array, as_count, as_positive
-from planners.base import stamp
+from planners.base import CompiledCache, stamp
 from planners.checker import RELATIVE_SLACK
 from planners.contact import (
     BRANCH_SPREAD,
@@ -168,6 +168,7 @@ from planners.transcription import (
     structure_limits,
     torque_linearization,
 )
+from planners.window_check import WindowCheck, WindowRatio
 from problems import PaddleStrike, PointToPoint, PoolStrike, Waypoints
 from problems.common import normal_pair
 from robots import JointLimits, Robot, SymbolicModel
@@ -415,7 +416,7 @@ def _solver_name(solver: str) -> str:
     return solver
 
 
-class OptimalControl:
+class OptimalControl(CompiledCache):
     """Plan by constrained optimal control: multi-phase, jerk-limited, torque-aware.
 
     Args:
@@ -448,7 +449,11 @@ class OptimalControl:
             a pool strike is solved from when the solver fails from the chosen one, >= 0.
             When every one fails, the contact search runs once more over twice as many
             candidates and its new branches (as many again) are tried too; the last
-            failure is raised. 0 solves from the chosen configuration only.
+            failure is raised. 0 solves from the chosen configuration only. Once the
+            solver has found a strike infeasible, a configuration that needs more than
+            :data:`TIGHT_RATIO` of a velocity limit is solved from only if its strike
+            window can keep within the limits (:class:`planners.window_check.WindowCheck`,
+            about 40 ms where a failing solve takes 0.3 to 2 s).
         free_grid: Whether each interval of a free phase has its own length (else all
             intervals of a phase are equal).
         reuse_contact: Whether a pool strike warm started from a previous pool solution
@@ -459,6 +464,8 @@ class OptimalControl:
             reaches soonest), so the motion may take longer. When its solve fails, the
             contact search runs as without a warm start.
     """
+
+    caches = ("_compiled", "_models")
 
     def __init__(
         self,
@@ -556,20 +563,7 @@ class OptimalControl:
         self._compiled: dict[Structure, CompiledNLP] = {}
         self._models: dict[str, SymbolicModel] = {}
         self._lock = threading.Lock()
-
-    # -- pickling: compiled solvers are rebuilt on demand -----------------------------------
-
-    def __getstate__(self) -> dict[str, Any]:
-        """State without the compiled solvers and the lock."""
-        state = self.__dict__.copy()
-        state["_compiled"], state["_models"] = {}, {}
-        del state["_lock"]
-        return state
-
-    def __setstate__(self, state: dict[str, Any]) -> None:
-        """Restore from :meth:`__getstate__`."""
-        self.__dict__.update(state)
-        self._lock = threading.Lock()
+        self._window_check = WindowCheck()
 
     def __repr__(self) -> str:
         """Objective and solver."""
@@ -598,8 +592,13 @@ class OptimalControl:
 
         Raises:
             InfeasibleError: A strike no contact configuration can make (with the binding
-                joint and the best reachable speed), a fixed duration shorter than the limits
-                allow, or torque limits that stay exceeded.
+                joint and the best reachable speed): one that needs more than the velocity
+                limits at every contact found, or a pool strike the solver found infeasible
+                whose every contact tried needs more than :data:`TIGHT_RATIO` of a velocity
+                limit and whose strike windows each need more than the limits
+                (:class:`planners.window_check.WindowCheck`; the error names the window's
+                binding joint and quantity and the speed its motion allows). Also a fixed
+                duration shorter than the limits allow, or torque limits that stay exceeded.
             SolverError: The solver failed; its status and the most violated constraint
                 group are in the message (for a pool strike, the last contact tried). A pool
                 strike found infeasible that needs more than :data:`TIGHT_RATIO` of a
@@ -619,6 +618,7 @@ class OptimalControl:
             seeded = _contact_from(problem, warm_start)
             searching = time.perf_counter() - started
         found: list[ContactChoice] = []  # the searches' choices tried (for the hint)
+        windows: list[WindowRatio | None] = []  # their windows, once a solve was infeasible
         if seeded is not None:
             tried.append(seeded.q)
             outcome = self._attempt(
@@ -636,7 +636,9 @@ class OptimalControl:
             except SolverError as error:
                 if not isinstance(problem, PoolStrike) or spec.contact is None:
                     raise
-                raise _near_the_limit(error, problem, [spec.contact]) from error.__cause__
+                window = self._window(problem, spec.contact, error)
+                raised = self._strike_error(error, problem, [spec.contact], [window])
+                raise raised from _cause(raised, error)
             return stamp(traj, self.name, started, contact_time=searching + spec.contact_time)
         # The contact search once as set, then once more over twice as many candidates for
         # branches it missed; a warm start fits the first branch only.
@@ -655,6 +657,12 @@ class OptimalControl:
             for choice in choices:
                 tried.append(choice.q)
                 found.append(choice)
+                # After an infeasible solve, a tight choice is solved from only if its
+                # window can keep within the limits.
+                window = self._window(problem, choice, failure)
+                windows.append(window)
+                if window is not None and window.exceeds(1.0 - self.margin):
+                    continue
                 # None after a seeded try, or for a choice on another branch than its own.
                 lend = len(tried) == 1 and _lends_to(problem, warm_start, choice)
                 start = warm_start if lend else None
@@ -664,9 +672,67 @@ class OptimalControl:
                 if isinstance(outcome, Trajectory):
                     return outcome
                 failure = outcome
+                if windows[-1] is None:
+                    windows[-1] = self._window(problem, choice, failure)
         if failure is None:  # pragma: no cover - the first search returns at least one branch
             raise SolverError(self.solver, "no contact configuration to solve from")
-        raise _near_the_limit(failure, problem, found) from failure.__cause__
+        raised = self._strike_error(failure, problem, found, windows)
+        raise raised from _cause(raised, failure)
+
+    def _window(
+        self, problem: PoolStrike, choice: ContactChoice, failure: SolverError | None
+    ) -> WindowRatio | None:
+        """The window check of a tight choice once a solve was found infeasible, else None.
+
+        None too when the check has no answer (no IK start on the line, no finite point).
+        """
+        if (
+            failure is None
+            or failure.status not in INFEASIBLE_STATUSES
+            or choice.ratio <= TIGHT_RATIO
+        ):
+            return None
+        try:
+            return self._window_check(problem, choice.q)
+        except OptrajError:
+            return None
+
+    def _strike_error(
+        self,
+        failure: SolverError,
+        problem: PoolStrike,
+        choices: list[ContactChoice],
+        windows: list[WindowRatio | None],
+    ) -> OptrajError:
+        """The error of a pool strike whose every solve failed.
+
+        An :class:`InfeasibleError` when every choice's window needs more than the limits
+        (``windows[i]`` is ``choices[i]``'s window check, None if it had none), else
+        :func:`_near_the_limit`'s.
+        """
+        keep = 1.0 - self.margin
+        if (
+            failure.status not in INFEASIBLE_STATUSES
+            or not windows
+            or not all(window is not None and window.exceeds(keep) for window in windows)
+        ):
+            return _near_the_limit(failure, problem, choices)
+        best = min((w for w in windows if w is not None), key=lambda window: window.ratio)
+        tried = (
+            "the contact configuration tried"
+            if len(choices) == 1
+            else f"each of the {len(choices)} contact configurations tried"
+        )
+        return InfeasibleError(
+            f"pool strike at {float(problem.speed):.3g} m/s: {tried} needs more than "
+            f"{100.0 * TIGHT_RATIO:.0f} % of a velocity limit, and its strike window more "
+            f"than the limits ({self.solver} status {failure.status!r}); {best.describe()}: "
+            f"a slower strike may plan",
+            limit=best.limit,
+            joint=best.joint,
+            required=best.required,
+            allowed=best.allowed,
+        )
 
     def _attempt(
         self,
@@ -1799,6 +1865,11 @@ def _checked_warm_start(problem: Any, warm_start: Any) -> Trajectory | None:
             name="warm_start",
         )
     return warm_start
+
+
+def _cause(raised: OptrajError, failure: SolverError) -> BaseException | None:
+    """The cause to chain ``raised`` to: the solver's own, or ``failure`` for a new kind."""
+    return failure.__cause__ if isinstance(raised, SolverError) else failure
 
 
 def _near_the_limit(

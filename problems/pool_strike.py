@@ -97,7 +97,9 @@ class PoolStrike:
                 "run_up + follow_through must be > 0 m (the strike needs a window)",
                 name="run_up",
             )
-        if (run_up + follow) / speed > MAX_WINDOW:
+        # The slowest speed the message names, (run_up + follow_through) / MAX_WINDOW, must
+        # pass itself: its window can come out a rounding above MAX_WINDOW.
+        if (run_up + follow) / speed > MAX_WINDOW * (1.0 + 1e-12):
             raise InvalidInputError(
                 f"speed {speed:.6g} m/s makes the strike window (run_up + follow_through = "
                 f"{run_up + follow:.6g} m) last {(run_up + follow) / speed:.6g} s, more than "

@@ -36,6 +36,7 @@ from planners.optimal_control import (
     strike_caps,
 )
 from planners.transcription import WARM_ITERATIONS, compile_nlp
+from planners.window_check import QUANTITIES, WindowRatio
 from robots import SymbolicModel
 
 SAWYER_SHOT = {"x": (0.65, 0.85), "y": (-0.05, 0.3), "z": (-0.1, 0.0), "heading": (-20.0, 20.0)}
@@ -135,35 +136,87 @@ def test_a_strike_faster_than_any_contact_allows_is_named_within_a_second():
         assert f"{error.max_speed:.3g} m/s" in str(error)
 
 
-def test_a_strike_too_close_to_its_limit_fails_with_the_tight_ratio_named():
+def test_a_strike_whose_window_needs_more_than_the_limits_is_refused_with_the_window_named():
     # Strike benchmark ball 3 at 1.5 m/s: every contact found needs more than 0.99 of
-    # right_j0's velocity limit at contact, and the line then needs more acceleration than
-    # the limits give (the contact choice, which checks velocities only, lets it through).
+    # right_j0's velocity limit at contact (the contact choice, which checks velocities at
+    # three configurations only, lets it through); the solver finds the strike infeasible,
+    # and the window check finds every contact's strike window past the limits.
     problem = problems.sawyer_pool_shot(
         1.5, (0.7009739175308249, 0.10577670705892629, -0.04954517410420467), 2.1398940829796977
     )
-    with pytest.raises(SolverError) as info:
+    with pytest.raises(InfeasibleError) as info:
         OptimalControl("time").plan(problem)
     error = info.value
-    assert error.status == "Infeasible_Problem_Detected"
-    found = re.search(r"at least ([0-9.]+) % of a velocity limit \((\w+) binds", str(error))
-    assert found is not None and float(found[1]) > 99.0 and found[2] == "right_j0"
-    fastest = float(re.search(r"allows up to ([0-9.]+) m/s", str(error))[1])
-    assert 1.5 <= fastest < 1.5 / 0.99  # at least the strike's speed: the velocities fit
-    assert "most violated" in error.detail  # the solver's own report is kept
+    assert isinstance(error.__cause__, SolverError)
+    assert error.__cause__.status == "Infeasible_Problem_Detected"
+    assert error.limit in QUANTITIES and error.joint in problem.limits.names
+    assert error.required > error.allowed
+    assert error.joint in str(error) and f"{error.allowed:.4g}" in str(error)
+    assert "needs more than 90 % of a velocity limit" in str(error)
+    slower = float(re.search(r"run at ([0-9.]+) m/s", str(error))[1])
+    assert 1.0 < slower < 1.5
+    assert str(error).endswith("a slower strike may plan")
+
+
+def _tight_choice(max_speed: float) -> ContactChoice:
+    """A Sawyer contact choice at 0.97 of right_j1's velocity limit."""
+    return ContactChoice(
+        q=np.zeros(7),
+        qd=np.zeros(7),
+        ratio=0.97,
+        max_speed=max_speed,
+        binding_joint="right_j1",
+        candidates=1,
+    )
+
+
+def _window(ratio: float, status: str = "Solve_Succeeded") -> WindowRatio:
+    return WindowRatio(
+        ratio=ratio,
+        velocity=ratio,
+        acceleration=0.5,
+        jerk=0.25,
+        limit="velocity",
+        joint="right_j3",
+        required=1.957 * ratio,
+        allowed=1.957,
+        unit="rad/s",
+        max_speed=1.5 / ratio,
+        status=status,
+        iterations=20,
+    )
+
+
+def test_a_strike_is_refused_only_when_every_window_tried_needs_more_than_the_limits():
+    problem = problems.sawyer_pool_shot(1.5)
+    planner = OptimalControl("time")
+    failure = SolverError("ipopt", "Infeasible_Problem_Detected", iterations=7, detail="x")
+    tight = _tight_choice(1.55)
+    refused = planner._strike_error(
+        failure, problem, [tight, tight], [_window(1.08), _window(1.03)]
+    )
+    assert isinstance(refused, InfeasibleError)
+    assert (refused.limit, refused.joint) == ("velocity", "right_j3")
+    assert refused.required == pytest.approx(1.957 * 1.03)  # the least window, not the first
+    assert "each of the 2 contact configurations tried" in str(refused)
+    # A window within the limits, one not checked, one not converged, or another failure
+    # than infeasibility: the solver's error (with the velocity hint where it applies).
+    for windows in (
+        [_window(1.08), _window(0.99)],
+        [_window(1.08), None],
+        [_window(1.08), _window(1.2, "Maximum_Iterations_Exceeded")],
+        [],
+    ):
+        kept = planner._strike_error(failure, problem, [tight, tight], windows)
+        assert isinstance(kept, SolverError) and "97.0 % of a velocity limit" in kept.detail
+    missed = SolverError("ipopt", "Maximum_Iterations_Exceeded")
+    assert planner._strike_error(missed, problem, [tight], [_window(1.08)]) is missed
 
 
 def test_the_tight_ratio_hint_comes_only_with_infeasibility_and_no_room():
     problem = problems.sawyer_pool_shot(1.0)
     failure = SolverError("ipopt", "Infeasible_Problem_Detected", iterations=7, detail="x")
-    tight = ContactChoice(
-        q=np.zeros(7),
-        qd=np.zeros(7),
-        ratio=0.97,
-        max_speed=1.03,
-        binding_joint="right_j1",
-        candidates=1,
-    )
+    tight = _tight_choice(1.03)
     tighter = dataclasses.replace(tight, ratio=0.95, max_speed=1.05, binding_joint="right_j3")
     hinted = _near_the_limit(failure, problem, [tight, tighter])
     assert (hinted.solver, hinted.status, hinted.iterations) == ("ipopt", failure.status, 7)

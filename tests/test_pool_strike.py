@@ -8,6 +8,7 @@ from conftest import get_robot
 
 from optraj.errors import InvalidInputError, UnreachableError
 from problems import POOL_BALL_RADIUS, PoolStrike, StrikeLine
+from problems.pool_strike import MAX_WINDOW
 
 
 def test_geometry_and_timing_of_the_strike():
@@ -55,3 +56,13 @@ def test_bad_strikes_raise_typed_errors(kwargs, error, match):
     fields.update(kwargs)
     with pytest.raises(error, match=match):
         PoolStrike(**fields)
+
+
+def test_the_slowest_speed_a_refusal_names_is_accepted():
+    # The refusal of a slower strike names 0.0025 m/s (0.15 m / MAX_WINDOW); at that speed the
+    # window, 0.15000000000000002 / 0.0025, comes out a rounding above MAX_WINDOW.
+    sawyer = get_robot("sawyer")
+    with pytest.raises(InvalidInputError, match=r"speed must be >= 0\.0025 m/s"):
+        PoolStrike(sawyer, ball=(0.75, 0.15, -0.05), direction=(1, 0, 0), speed=0.0024)
+    problem = PoolStrike(sawyer, ball=(0.75, 0.15, -0.05), direction=(1, 0, 0), speed=0.0025)
+    assert problem.window == pytest.approx(MAX_WINDOW, rel=1e-12)

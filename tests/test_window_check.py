@@ -1,0 +1,86 @@
+"""Tests of planners.window_check: the least fraction of the limits a strike window needs."""
+
+from __future__ import annotations
+
+import pickle
+
+import numpy as np
+import pytest
+
+import problems
+from optraj.errors import InvalidInputError
+from planners import OptimalControl, Trajectory, check
+from planners.contact import choose_contact
+from planners.window_check import QUANTITIES, WindowCheck
+
+#: Strike benchmark ball 3 and its heading [deg]: at 1.5 m/s its contact configurations need
+#: more than 0.99 of right_j0's velocity limit, and its window more than the limits.
+BALL_3 = ((0.7009739175308249, 0.10577670705892629, -0.04954517410420467), 2.1398940829796977)
+
+
+def _window_peaks(traj: Trajectory, problem: problems.PoolStrike) -> tuple[float, float, float]:
+    """Largest velocity, acceleration and jerk ratios over the strike phase, sampled at 1 kHz
+    (the jerk just inside each end, where the cubic pieces of the window hold)."""
+    phase = traj.phase("strike")
+    times = np.linspace(phase.t_start + 1e-9, phase.t_end - 1e-9, 1001)
+    sample = traj.sample(times)
+    limits = problem.limits
+    return (
+        float((np.abs(sample.qd) / limits.velocity).max()),
+        float((np.abs(sample.qdd) / limits.acceleration).max()),
+        float((np.abs(sample.jerk) / limits.jerk).max()),
+    )
+
+
+def test_the_window_check_asks_no_more_than_a_planned_strike_window():
+    # A minimum-jerk plan is a point of the window NLP (to its node tolerances): the check's
+    # optimum needs at most the fraction of the limits that plan's window does, measured on
+    # the trajectory itself.
+    problem = problems.sawyer_pool_shot(1.0)
+    traj = OptimalControl("jerk").plan(problem)
+    assert check(traj, problem).ok
+    window = WindowCheck()(problem, traj.metadata["contact_configuration"])
+    assert window.converged
+    planned = max(_window_peaks(traj, problem))
+    assert 0.1 < window.ratio <= planned + 1e-3
+    assert window.ratio == max(window.velocity, window.acceleration, window.jerk)
+    assert window.max_speed > problem.speed  # within the limits, so faster is possible
+
+
+def test_a_window_past_the_limits_names_the_quantity_and_a_slower_speed():
+    problem = problems.sawyer_pool_shot(1.5, *BALL_3)
+    window = WindowCheck()(problem, choose_contact(problem).q)
+    assert window.converged and window.exceeds()
+    assert window.ratio > 1.02
+    assert window.limit in QUANTITIES and window.joint in problem.limits.names
+    joint = problem.limits.names.index(window.joint)
+    assert window.allowed == pytest.approx(getattr(problem.limits, window.limit)[joint])
+    assert window.required > window.allowed
+    assert window.unit == problem.limits.unit(window.limit, joint)
+    # Run slower by the named factor, the same joint path scales its velocities, accelerations
+    # and jerks by the factor's first, second and third powers: the largest lands on 1.
+    factor = window.max_speed / problem.speed
+    scaled = (window.velocity * factor, window.acceleration * factor**2, window.jerk * factor**3)
+    assert 0.0 < factor < 1.0 and max(scaled) == pytest.approx(1.0)
+    assert f"{window.max_speed:.4g} m/s" in window.describe()
+
+
+def test_the_window_check_pickles_and_answers_the_same():
+    problem = problems.sawyer_pool_shot(1.5, *BALL_3)
+    q = choose_contact(problem).q
+    check_ = WindowCheck()
+    first = check_(problem, q)
+    copy = pickle.loads(pickle.dumps(check_))
+    again = copy(problem, q)
+    assert again.ratio == pytest.approx(first.ratio, rel=1e-9)
+    assert (again.limit, again.joint) == (first.limit, first.joint)
+
+
+def test_the_window_check_refuses_what_it_cannot_check():
+    problem = problems.sawyer_pool_shot(1.0)
+    with pytest.raises(InvalidInputError, match="q_contact"):
+        WindowCheck()(problem, np.zeros(3))
+    with pytest.raises(InvalidInputError, match="PoolStrike"):
+        WindowCheck()(problems.seed_paddle_strike(), np.zeros(4))
+    with pytest.raises(InvalidInputError, match="intervals"):
+        WindowCheck(intervals=1)
