@@ -453,7 +453,7 @@ class OptimalControl(CompiledCache):
             solver has found a strike infeasible, a configuration that needs more than
             :data:`TIGHT_RATIO` of a velocity limit is solved from only if its strike
             window can keep within the limits (:class:`planners.window_check.WindowCheck`,
-            about 40 ms where a failing solve takes 0.3 to 2 s).
+            30 to 40 ms where a failing solve takes 0.3 to 2 s).
         free_grid: Whether each interval of a free phase has its own length (else all
             intervals of a phase are equal).
         reuse_contact: Whether a pool strike warm started from a previous pool solution

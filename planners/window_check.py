@@ -56,7 +56,7 @@ FloatArray = NDArray[np.float64]
 
 #: Intervals of the window NLP. On six of the strike benchmark's speed-table balls at 1.35 and
 #: 1.5 m/s its optimum moved by at most 0.8 % from 8 to 24 intervals, and a solve at 8 took
-#: about half the time of one at 16 (about 40 ms).
+#: about half the time of one at 16 (30 to 40 ms).
 WINDOW_INTERVALS = 8
 #: Most IPOPT iterations of one window NLP; the solves that converge take 16 to 30.
 WINDOW_ITERATIONS = 300
