@@ -55,6 +55,7 @@ from robots.paddle_ik import BALL_OFFSET
 
 __all__ = [
     "BRANCH_SPREAD",
+    "HEADROOM",
     "ContactChoice",
     "choose_contact",
     "contact_choices",
@@ -112,7 +113,7 @@ _LIMIT_PENALTY = 0.02
 #: Contacts whose ratio is at most this fraction of the allowed one count as fast enough
 #: with room to spare; among them the one nearest the start (in joint travel time) is chosen,
 #: since the contact with the very smallest ratio can lie far from the start.
-_HEADROOM = 0.9
+HEADROOM = 0.9
 
 
 @dataclass(frozen=True)
@@ -838,7 +839,7 @@ def _rank_pool(
             margin,
             f"any contact configuration found ({search.evaluated} tried)",
         )
-    room = _HEADROOM * (1.0 - margin)
+    room = HEADROOM * (1.0 - margin)
     # Room to spare: in the velocity ratio, and (estimated) to turn at the position limits.
     roomy = [w for w in windows if speed * max(w.r1, w.turn) <= room]
     tight = [w for w in windows if speed * max(w.r1, w.turn) > room]
@@ -927,7 +928,7 @@ def contact_near(problem: PoolStrike, q: ArrayLike, *, margin: float = 0.0) -> C
     window = None if found is None else search.window(found)
     if window is None:
         return None
-    if float(problem.speed) * max(window.r1, window.turn) > _HEADROOM * (1.0 - reserve):
+    if float(problem.speed) * max(window.r1, window.turn) > HEADROOM * (1.0 - reserve):
         return None
     return _pool_choice(problem, window, search.evaluated)
 

@@ -23,12 +23,15 @@ Contact configuration
     reach the strike speed with the smallest joint speeds. A strike no configuration can make
     is rejected there, within a second, with the binding joint and the best reachable speed.
     That check covers the velocity limits only. Close to the fastest speed it allows, the
-    line can also need accelerations past their limits; IPOPT then finds the NLP locally
-    infeasible and the plan raises a ``SolverError`` whose message adds, when every contact
-    tried needs more than :data:`TIGHT_RATIO` of a velocity limit, that ratio, the binding
-    joint and the fastest speed the velocity limits allow. Of 10 benchmark balls at 1.5 m/s
-    on Sawyer, 6 pass the check (ratios 0.91 to 0.999) and fail this way, after every
-    contact configuration the two contact searches offer has been tried
+    line can also need accelerations past their limits, and IPOPT finds the NLP locally
+    infeasible. Each further contact that needs more than :data:`TIGHT_RATIO` of a velocity
+    limit is then solved from only if its strike window alone can keep within the limits
+    (:class:`planners.window_check.WindowCheck`). When no window tried can, the plan raises
+    an ``InfeasibleError`` naming the window's binding joint and quantity and a slower speed;
+    otherwise the last ``SolverError``, whose message adds (when every contact tried is that
+    tight) the ratio, the binding joint and the fastest speed the velocity limits allow. Of
+    10 benchmark balls at 1.5 m/s on Sawyer, 6 pass the contact choice (ratios 0.91 to
+    0.999); 5 are refused after a window check and 1 fails in the solver
     (``benchmarks/results/strike.md``, speed table, the time to an error).
     The chosen contact's ratio (the largest fraction of a velocity limit the line needs)
     also bounds the joint velocities and accelerations at the strike nodes
@@ -146,6 +149,7 @@ from planners.base import CompiledCache, stamp
 from planners.checker import RELATIVE_SLACK
 from planners.contact import (
     BRANCH_SPREAD,
+    HEADROOM,
     ContactChoice,
     choose_contact,
     contact_choices,
@@ -249,10 +253,10 @@ STRIKE_VELOCITY_ROOM = 3.0
 #: 4/20 shots at 0.1 m/s needing a finer grid.
 STRIKE_ACCELERATION_ROOM = 10.0
 #: A pool strike whose contact configurations all need more than this fraction of a velocity
-#: limit is near the fastest speed they allow; when the NLP is found infeasible, its error
-#: says so [-]. The contact choice's own threshold for room to spare
-#: (``planners.contact.choose_contact``).
-TIGHT_RATIO = 0.9
+#: limit is near the fastest speed they allow: once the NLP is found infeasible, such contacts
+#: get the window check, and the error says so [-]. The contact choice's own threshold for
+#: room to spare.
+TIGHT_RATIO = HEADROOM
 #: The solver statuses of an NLP found (locally) infeasible.
 INFEASIBLE_STATUSES = frozenset({"Infeasible_Problem_Detected", "Restoration_Failed"})
 
@@ -661,7 +665,7 @@ class OptimalControl(CompiledCache):
                 # window can keep within the limits.
                 window = self._window(problem, choice, failure)
                 windows.append(window)
-                if window is not None and window.exceeds(1.0 - self.margin):
+                if self._past_the_limits(window):
                     continue
                 # None after a seeded try, or for a choice on another branch than its own.
                 lend = len(tried) == 1 and _lends_to(problem, warm_start, choice)
@@ -697,6 +701,10 @@ class OptimalControl(CompiledCache):
         except OptrajError:
             return None
 
+    def _past_the_limits(self, window: WindowRatio | None) -> bool:
+        """Whether a window check found its window past the limits the planner keeps."""
+        return window is not None and window.exceeds(1.0 - self.margin)
+
     def _strike_error(
         self,
         failure: SolverError,
@@ -710,11 +718,10 @@ class OptimalControl(CompiledCache):
         (``windows[i]`` is ``choices[i]``'s window check, None if it had none), else
         :func:`_near_the_limit`'s.
         """
-        keep = 1.0 - self.margin
         if (
             failure.status not in INFEASIBLE_STATUSES
             or not windows
-            or not all(window is not None and window.exceeds(keep) for window in windows)
+            or not all(self._past_the_limits(window) for window in windows)
         ):
             return _near_the_limit(failure, problem, choices)
         best = min((w for w in windows if w is not None), key=lambda window: window.ratio)
