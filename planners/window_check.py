@@ -71,7 +71,8 @@ class WindowRatio:
 
     Attributes:
         ratio: Largest of ``velocity``, ``acceleration`` and ``jerk`` [-].
-        velocity: Largest ``|qd_i| / qd_max_i`` over the window at the optimum [-].
+        velocity: Largest ``|qd_i| / qd_max_i`` over the window at the optimum, between the
+            nodes too [-].
         acceleration: Largest ``|qdd_i| / qdd_max_i`` [-].
         jerk: Largest ``|jerk_i| / jerk_max_i`` [-].
         limit: The quantity that caps the speed first (``"velocity"``, ``"acceleration"`` or
@@ -204,10 +205,11 @@ class WindowCheck(CompiledCache):
                 detail="the window NLP's point is not finite",
             )
         states = w[: (k + 1) * 3 * n].reshape(k + 1, 3 * n)
+        jerks = w[(k + 1) * 3 * n : -1].reshape(k, n)
         peaks = (
-            np.abs(states[:, n : 2 * n]).max(axis=0),
-            np.abs(states[:, 2 * n :]).max(axis=0),
-            np.abs(w[(k + 1) * 3 * n : -1].reshape(k, n)).max(axis=0),
+            _velocity_peaks(states, jerks, h, compiled.scale),
+            np.abs(states[:, 2 * n :]).max(axis=0),  # linear on an interval: nodes suffice
+            np.abs(jerks).max(axis=0),
         )
         tops = [float(peak.max()) for peak in peaks]
         # The speed factor each quantity allows: velocity ~ v, acceleration ~ v^2, jerk ~ v^3.
@@ -242,6 +244,34 @@ class WindowCheck(CompiledCache):
             with self._lock:
                 compiled = self._compiled.setdefault(key, compiled)
         return compiled
+
+
+def _velocity_peaks(
+    states: FloatArray,
+    jerks: FloatArray,
+    h: float,
+    scale: tuple[FloatArray, FloatArray, FloatArray],
+) -> FloatArray:
+    """Each joint's largest ``|qd| / qd_max`` over the window, between the nodes too [-].
+
+    Args:
+        states: Scaled node states ``(zq, zv, za)``, shape (k + 1, 3 n).
+        jerks: Scaled jerks, shape (k, n).
+        h: Interval length [s].
+        scale: Velocity, acceleration and jerk limits, each shape (n,).
+
+    Returns:
+        Shape (n,): the velocity is quadratic on an interval, so its peak is at a node or
+        where the acceleration crosses zero inside the interval.
+    """
+    vel, acc, jerk = scale
+    n = vel.size
+    v0, a0, u = vel * states[:-1, n : 2 * n], acc * states[:-1, 2 * n :], jerk * jerks
+    with np.errstate(divide="ignore", invalid="ignore"):
+        turn = np.where(u != 0.0, -a0 / u, -1.0)  # [s] after the interval's start
+    inside = (turn > 0.0) & (turn < h)
+    at_turn = np.where(inside, np.abs(v0 + a0 * turn + 0.5 * u * turn**2), 0.0)
+    return np.maximum(np.abs(states[:, n : 2 * n]).max(axis=0), (at_turn / vel).max(axis=0))
 
 
 def _compile(robot: Robot, limits: JointLimits, k: int, max_iterations: int) -> _Compiled:

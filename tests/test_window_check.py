@@ -11,7 +11,8 @@ import problems
 from optraj.errors import InvalidInputError
 from planners import OptimalControl, Trajectory, check
 from planners.contact import choose_contact
-from planners.window_check import QUANTITIES, WindowCheck
+from planners.transcription import jerk_step
+from planners.window_check import QUANTITIES, WindowCheck, _velocity_peaks
 
 #: Strike benchmark ball 3 and its heading [deg]: at 1.5 m/s its contact configurations need
 #: more than 0.99 of right_j0's velocity limit, and its window more than the limits.
@@ -84,3 +85,33 @@ def test_the_window_check_refuses_what_it_cannot_check():
         WindowCheck()(problems.seed_paddle_strike(), np.zeros(4))
     with pytest.raises(InvalidInputError, match="intervals"):
         WindowCheck(intervals=1)
+
+
+def test_velocity_peaks_count_the_turns_between_nodes():
+    # Against the velocity sampled densely along the exact steps, on seeded random states
+    # whose accelerations change sign inside intervals.
+    rng = np.random.default_rng(3)
+    n, k, h = 3, 6, 0.02
+    scale = (np.array([2.0, 1.5, 1.0]), np.array([10.0, 8.0, 6.0]), np.array([500.0, 400.0, 300.0]))
+    jerks = rng.uniform(-1.0, 1.0, (k, n))
+    states = np.zeros((k + 1, 3 * n))
+    states[0, n:] = rng.uniform(-0.5, 0.5, 2 * n)
+    for i in range(k):
+        v, a = scale[0] * states[i, n : 2 * n], scale[1] * states[i, 2 * n :]
+        _, v1, a1 = jerk_step(h, 0.0, v, a, scale[2] * jerks[i])
+        states[i + 1, n:] = np.concatenate([v1 / scale[0], a1 / scale[1]])
+    t = np.linspace(0.0, h, 2001)[:, None]
+    dense = [
+        jerk_step(
+            t,
+            0.0,
+            scale[0] * states[i, n : 2 * n],
+            scale[1] * states[i, 2 * n :],
+            scale[2] * jerks[i],
+        )[1]
+        for i in range(k)
+    ]
+    expected = (np.abs(np.concatenate(dense)) / scale[0]).max(axis=0)
+    peaks = _velocity_peaks(states, jerks, h, scale)
+    np.testing.assert_allclose(peaks, expected, rtol=1e-6)
+    assert np.any(peaks > np.abs(states[:, n : 2 * n]).max(axis=0) + 1e-3)  # a turn counted
