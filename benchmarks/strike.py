@@ -33,7 +33,7 @@ import numpy as np
 
 import problems
 from benchmarking import SEED, SPEED, pool_shots, progress, shot_arguments, write_report
-from optraj.errors import InfeasibleError, OptrajError
+from optraj.errors import InfeasibleError, OptrajError, SolverError
 from planners.checker import Report, check
 from planners.classic_strike import ClassicStrike
 from planners.optimal_control import OptimalControl
@@ -246,6 +246,13 @@ def _compiled_then_timed(planner: OptimalControl, problem: problems.PoolStrike) 
     return _timed(planner, problem)
 
 
+def _refused(error: OptrajError) -> bool:
+    """Whether a plan's error is the contact choice's or the window check's refusal."""
+    return isinstance(error, InfeasibleError) and (
+        error.limit == "velocity" or isinstance(error.__cause__, SolverError)
+    )
+
+
 def _variant(
     shot: problems.PoolStrike, speed: float | None = None, shift: tuple[float, ...] = (0, 0, 0)
 ) -> problems.PoolStrike:
@@ -271,10 +278,11 @@ def speed_section(shots: list[problems.PoolStrike], quick: bool = False) -> list
         f"Minimum time, the first {len(chosen)} balls and headings struck at each speed. Each "
         "shot is planned once untimed, which compiles its NLPs, and then once timed; the "
         "timed plan counts. Passed: the checker passes the trajectory (as above). Refused: "
-        "an `InfeasibleError` whose limit is the velocity: from the contact choice before "
-        "any NLP (no contact configuration found reaches the speed), or after a solve found "
-        "the strike infeasible, from the window check (every strike window tried needs more "
-        "than the limits, velocity binding first). Failed: any other "
+        "an `InfeasibleError` from the contact choice before any NLP (no contact "
+        "configuration found reaches the speed within the velocity limits), or after a "
+        "solve found the strike infeasible, from the window check (every strike window "
+        "tried, with the approach into it and the stop after it, needs more than the "
+        "limits; the error names the limit that binds first). Failed: any other "
         "`OptrajError`, or a trajectory the checker fails. Plan times, iterations and "
         "motions are medians over the passed shots; time to an error is the longest timed "
         "plan that raised (refused or failed). Rounds are the solves of a plan: more than one "
@@ -301,7 +309,7 @@ def speed_section(shots: list[problems.PoolStrike], quick: bool = False) -> list
                 traj = planner.plan(problem)
             except OptrajError as exc:
                 errors.append(1e3 * (time.perf_counter() - started))
-                if isinstance(exc, InfeasibleError) and exc.limit == "velocity":
+                if _refused(exc):
                     refused += 1
                 else:
                     failed += 1

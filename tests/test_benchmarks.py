@@ -96,6 +96,19 @@ def test_strike_quick_run_writes_its_table(tmp_path, monkeypatch):
     assert rows["quintic strike"]["checker failures"] == "-"
 
 
+def test_the_speed_table_counts_the_contact_choice_and_window_refusals_as_refused(monkeypatch):
+    from optraj.errors import InfeasibleError, SolverError
+
+    module = _load("strike", monkeypatch)
+    contact = InfeasibleError("no contact reaches 2.5 m/s", limit="velocity", joint="right_j1")
+    window = InfeasibleError("window past the limits", limit="acceleration", joint="right_j3")
+    window.__cause__ = SolverError("ipopt", "Infeasible_Problem_Detected")
+    torque = InfeasibleError("torque limits stay exceeded", limit="effort", joint="right_j1")
+    assert module._refused(contact) and module._refused(window)
+    assert not module._refused(torque)
+    assert not module._refused(SolverError("ipopt", "Maximum_Iterations_Exceeded"))
+
+
 def test_tracking_quick_run_writes_its_tables(tmp_path, monkeypatch):
     module = _load("tracking", monkeypatch)
     monkeypatch.setattr(module, "RESULTS", tmp_path)

@@ -12,7 +12,7 @@ from optraj.errors import InvalidInputError
 from planners import OptimalControl, Trajectory, check
 from planners.contact import choose_contact
 from planners.transcription import jerk_step
-from planners.window_check import QUANTITIES, WindowCheck, _velocity_peaks
+from planners.window_check import QUANTITIES, WindowCheck, _velocity_peaks, run_out
 
 #: Strike benchmark ball 3 and its heading [deg]: at 1.5 m/s its contact configurations need
 #: more than 0.99 of right_j0's velocity limit, and its window more than the limits.
@@ -20,14 +20,15 @@ BALL_3 = ((0.7009739175308249, 0.10577670705892629, -0.04954517410420467), 2.139
 
 
 def _window_peaks(traj: Trajectory, problem: problems.PoolStrike) -> tuple[float, float, float]:
-    """Largest velocity, acceleration and jerk ratios over the strike phase, sampled at 1 kHz
-    (the jerk just inside each end, where the cubic pieces of the window hold)."""
+    """Largest velocity ratio over the whole motion (the check counts the velocities just
+    before and after the window), acceleration and jerk ratios over the strike phase, sampled
+    at 1 kHz (the jerk just inside each end, where the cubic pieces of the window hold)."""
     phase = traj.phase("strike")
     times = np.linspace(phase.t_start + 1e-9, phase.t_end - 1e-9, 1001)
     sample = traj.sample(times)
     limits = problem.limits
     return (
-        float((np.abs(sample.qd) / limits.velocity).max()),
+        float((np.abs(traj.sample(traj.times()).qd) / limits.velocity).max()),
         float((np.abs(sample.qdd) / limits.acceleration).max()),
         float((np.abs(sample.jerk) / limits.jerk).max()),
     )
@@ -87,9 +88,25 @@ def test_the_window_check_refuses_what_it_cannot_check():
         WindowCheck(intervals=1)
 
 
-def test_velocity_peaks_count_the_turns_between_nodes():
+def test_run_out_is_the_velocity_where_the_acceleration_reaches_zero():
+    # Against the exact steps at the jerk limit: forward from the state with the jerk against
+    # its acceleration, and backward in time from it.
+    rng = np.random.default_rng(5)
+    velocity, acceleration = rng.uniform(-2.0, 2.0, 6), rng.uniform(-8.0, 8.0, 6)
+    jerk = rng.uniform(100.0, 500.0, 6)
+    stop = np.abs(acceleration) / jerk  # [s] until the acceleration is zero
+    for sign in (1.0, -1.0):
+        _, v, a = jerk_step(
+            sign * stop, 0.0, velocity, acceleration, -sign * np.sign(acceleration) * jerk
+        )
+        np.testing.assert_allclose(a, 0.0, atol=1e-12)
+        np.testing.assert_allclose(run_out(velocity, acceleration, jerk, sign), v, rtol=1e-12)
+
+
+def test_velocity_peaks_count_the_turns_between_nodes_and_the_run_outs():
     # Against the velocity sampled densely along the exact steps, on seeded random states
-    # whose accelerations change sign inside intervals.
+    # whose accelerations change sign inside intervals, and the velocities the joints reach
+    # before the first node and after the last at the jerk limit.
     rng = np.random.default_rng(3)
     n, k, h = 3, 6, 0.02
     scale = (np.array([2.0, 1.5, 1.0]), np.array([10.0, 8.0, 6.0]), np.array([500.0, 400.0, 300.0]))
@@ -111,7 +128,15 @@ def test_velocity_peaks_count_the_turns_between_nodes():
         )[1]
         for i in range(k)
     ]
-    expected = (np.abs(np.concatenate(dense)) / scale[0]).max(axis=0)
+    window = (np.abs(np.concatenate(dense)) / scale[0]).max(axis=0)
+    ends = []
+    for node, sign in ((0, -1.0), (k, 1.0)):
+        v, a = scale[0] * states[node, n : 2 * n], scale[1] * states[node, 2 * n :]
+        stop = np.abs(a) / scale[2]
+        ends.append(jerk_step(sign * stop, 0.0, v, a, -sign * np.sign(a) * scale[2])[1])
+    after = np.abs(ends).max(axis=0) / scale[0]
     peaks = _velocity_peaks(states, jerks, h, scale)
-    np.testing.assert_allclose(peaks, expected, rtol=1e-6)
-    assert np.any(peaks > np.abs(states[:, n : 2 * n]).max(axis=0) + 1e-3)  # a turn counted
+    np.testing.assert_allclose(peaks, np.maximum(window, after), rtol=1e-6)
+    nodes = np.abs(states[:, n : 2 * n]).max(axis=0)
+    assert np.any(window > np.maximum(nodes, after) + 1e-3)  # a turn decides a peak
+    assert np.any(after > np.maximum(nodes, window) + 1e-3)  # and a run-out another
