@@ -621,7 +621,7 @@ class OptimalControl(CompiledCache):
         seeded = None
         searching = 0.0  # the contact choices' wall time [s]
         if self.reuse_contact and isinstance(problem, PoolStrike):
-            seeded = _contact_from(problem, warm_start)
+            seeded = _contact_from(problem, warm_start, self.margin)
             searching = time.perf_counter() - started
         found: list[ContactChoice] = []  # the searches' choices tried (for the hint)
         windows: list[WindowRatio | None] = []  # their windows, once a solve was infeasible
@@ -632,8 +632,9 @@ class OptimalControl(CompiledCache):
             )
             if isinstance(outcome, Trajectory):
                 return outcome
-            if self.contact_retries == 0:
-                raise outcome  # the one configuration allowed
+            if self.contact_retries == 0:  # the one configuration allowed
+                raised = self._alone_error(outcome, problem, seeded, searched=False)
+                raise raised from _cause(raised, outcome)
             failure, warm_start = outcome, None
         if not isinstance(problem, PoolStrike) or self.contact_retries == 0:
             spec = self._spec(problem)
@@ -642,15 +643,7 @@ class OptimalControl(CompiledCache):
             except SolverError as error:
                 if not isinstance(problem, PoolStrike) or spec.contact is None:
                     raise
-                # One contact only: a window past the limits says nothing of the others.
-                raised = _near_the_limit(error, problem, [spec.contact])
-                window = self._window(problem, spec.contact, error)
-                if window is not None and self._past_the_limits(window):
-                    raised = _detailed(
-                        raised,
-                        f"from this contact configuration {window.describe()}; other contact "
-                        f"configurations (contact_retries > 0) may plan",
-                    )
+                raised = self._alone_error(error, problem, spec.contact, searched=True)
                 raise raised from _cause(raised, error)
             return stamp(traj, self.name, started, contact_time=searching + spec.contact_time)
         # The contact search once as set, then once more over twice as many candidates for
@@ -659,7 +652,11 @@ class OptimalControl(CompiledCache):
             searched = time.perf_counter()
             try:
                 choices = contact_choices(
-                    problem, 1 + self.contact_retries, candidates=candidates, exclude=tried
+                    problem,
+                    1 + self.contact_retries,
+                    candidates=candidates,
+                    exclude=tried,
+                    margin=self.margin,
                 )
             except InfeasibleError:
                 if failure is None:
@@ -710,8 +707,27 @@ class OptimalControl(CompiledCache):
             return None
 
     def _past_the_limits(self, window: WindowRatio | None) -> bool:
-        """Whether a window check found its window past the limits the planner keeps."""
-        return window is not None and window.exceeds(1.0 - self.margin)
+        """Whether a window check found its window past the limits."""
+        return window is not None and window.exceeds(1.0)
+
+    def _alone_error(
+        self, failure: SolverError, problem: PoolStrike, choice: ContactChoice, *, searched: bool
+    ) -> SolverError:
+        """The error of a pool strike solved from one contact only (``contact_retries=0``).
+
+        A window past the limits says nothing of other contacts, so the solver's error stays,
+        with the window check's finding added; a searched ``choice`` also gets
+        :func:`_near_the_limit`'s hint (a warm start's contact has room by construction).
+        """
+        raised = _near_the_limit(failure, problem, [choice]) if searched else failure
+        window = self._window(problem, choice, failure)
+        if window is None or not self._past_the_limits(window):
+            return raised
+        return _detailed(
+            raised,
+            f"from this contact configuration {window.describe()}; other contact "
+            f"configurations (contact_retries > 0) may plan",
+        )
 
     def _strike_error(
         self,
@@ -1393,7 +1409,9 @@ class OptimalControl(CompiledCache):
             return _waypoints(problem)
         if isinstance(problem, (PoolStrike, PaddleStrike)):
             started = time.perf_counter()
-            choice = choose_contact(problem, candidates=self.contact_candidates)
+            # The margin the NLP keeps from the velocity limits: a contact past it is refused
+            # here, with its binding joint, instead of by an infeasible solve.
+            choice = choose_contact(problem, candidates=self.contact_candidates, margin=self.margin)
             searched = time.perf_counter() - started
             spec = (
                 _pool(problem, choice)
@@ -1955,10 +1973,15 @@ def _previous_contact(problem: PoolStrike, warm_start: Trajectory | None) -> Flo
     return q
 
 
-def _contact_from(problem: PoolStrike, warm_start: Trajectory | None) -> ContactChoice | None:
-    """The contact branch of a previous pool solution, if it still fits this problem."""
+def _contact_from(
+    problem: PoolStrike, warm_start: Trajectory | None, margin: float
+) -> ContactChoice | None:
+    """The contact branch of a previous pool solution, if it still fits this problem.
+
+    ``margin`` is the fraction of the velocity limits kept in reserve [-].
+    """
     q = _previous_contact(problem, warm_start)
-    return None if q is None else contact_near(problem, q)
+    return None if q is None else contact_near(problem, q, margin=margin)
 
 
 def _lends_to(problem: PoolStrike, warm_start: Trajectory | None, choice: ContactChoice) -> bool:

@@ -4,7 +4,8 @@ The contact choice (:mod:`planners.contact`) bounds joint velocities at three co
 of the strike line. Close to the fastest strike it allows, the line can still be out of
 reach: the joints must keep those velocities over the whole window, where the velocities the
 line needs change faster than the acceleration and jerk limits let them. :class:`WindowCheck`
-answers how near the limits the window alone can be run: the window (``problem.window``
+answers how near the limits the window can be run, counting the approach into it and the
+stop after it: the window (``problem.window``
 long, cut into ``intervals`` equal intervals of constant jerk, the optimal-control
 transcription's exact triple-integrator steps) with the cue tip on its schedule and the cue
 axis on the line at every node, the tip velocity ``speed * direction`` at entry and exit, and
@@ -34,10 +35,13 @@ planner only uses it to skip further contact configurations once a solve has fai
 explain its error, never to refuse a strike it has not tried to solve.
 
 A joint motion run :math:`\lambda` times faster along the same path needs :math:`\lambda`,
-:math:`\lambda^2` and :math:`\lambda^3` times the velocities, accelerations and jerks; so the
-optimum's peak ratios :math:`(r_v, r_a, r_j)` give a strike speed whose window motion keeps
-within the limits, :math:`v \min(r_v^{-1}, r_a^{-1/2}, r_j^{-1/3})`
-(:attr:`WindowRatio.max_speed`), and the quantity with the least factor is the one that binds.
+:math:`\lambda^2` and :math:`\lambda^3` times the velocities, accelerations and jerks, and
+at most :math:`\lambda` times the run-out velocities when :math:`\lambda \le 1` (their
+acceleration term scales with :math:`\lambda^4`); so the optimum's peak ratios
+:math:`(r_v, r_a, r_j)` give a slower strike speed whose motion keeps within the limits,
+:math:`v \min(r_v^{-1}, r_a^{-1/2}, r_j^{-1/3})` (:attr:`WindowRatio.max_speed`), and the
+quantity with the least factor is the one that binds. Above the strike speed (a window
+within the limits) the same formula is an estimate: faster, the run-outs grow by more.
 """
 
 from __future__ import annotations
@@ -91,8 +95,8 @@ class WindowRatio:
         required: That joint's peak of ``limit`` [``unit``].
         allowed: Its limit [``unit``].
         unit: The unit of ``required`` and ``allowed``, e.g. ``"rad/s^2"``.
-        max_speed: Strike speed at which the optimum's joint path, run faster or slower,
-            keeps within the limits [m/s].
+        max_speed: Strike speed at which the optimum's joint path, run slower, keeps within
+            the limits; above the strike speed an estimate (module docstring) [m/s].
         status: IPOPT's return status.
         iterations: IPOPT iterations.
     """
@@ -256,12 +260,19 @@ class WindowCheck(CompiledCache):
         return compiled
 
 
-def run_out(velocity: Any, acceleration: Any, jerk: Any, sign: float) -> Any:
+def run_out(
+    velocity: FloatArray | ca.SX,
+    acceleration: FloatArray | ca.SX,
+    jerk: FloatArray | ca.SX,
+    sign: float,
+) -> FloatArray | ca.SX:
     """The velocity a joint reaches when its acceleration, changed at the jerk limit, is zero.
 
-    Forward in time (``sign`` +1) it is the least peak a joint leaving a state will reach
-    before it can slow down; backward (``sign`` -1) the least peak a joint entering the state
-    came from. Element-wise on NumPy arrays and CasADi expressions alike.
+    Forward in time (``sign`` +1) from a state, backward (``sign`` -1) into it. No jerk
+    profile within the limit takes the acceleration to zero with less change of velocity, and
+    the velocity changes monotonically on the way: so the joint's speed over that stretch,
+    the state included, peaks at least at the magnitude of this value. Element-wise on NumPy
+    arrays and CasADi expressions alike.
 
     Args:
         velocity: Joint velocity [rad/s or m/s].

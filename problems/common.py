@@ -39,11 +39,7 @@ def check_robot(robot: object, wanted: str | None = None) -> Robot:
 
 def positive(value: float, name: str, unit: str) -> float:
     """``value`` as a finite float > 0, or a typed error naming it."""
-    number = float(as_array(value, name, ()))
-    if number <= 0.0:
-        unit = f" {unit}" if unit else ""
-        raise InvalidInputError(f"{name} must be > 0{unit}, got {number:.6g}{unit}", name=name)
-    return number
+    return _above_zero(value, name, unit, strict=True)
 
 
 def positive_fields(problem: object, units: dict[str, str]) -> None:
@@ -57,10 +53,18 @@ def positive_fields(problem: object, units: dict[str, str]) -> None:
 
 def non_negative(value: float, name: str, unit: str) -> float:
     """``value`` as a finite float >= 0, or a typed error naming it."""
+    return _above_zero(value, name, unit, strict=False)
+
+
+def _above_zero(value: float, name: str, unit: str, *, strict: bool) -> float:
+    """``value`` as a finite float > 0 (``strict``) or >= 0, or a typed error naming it."""
     number = float(as_array(value, name, ()))
-    if number < 0.0:
+    if number < 0.0 or (strict and number == 0.0):
         unit = f" {unit}" if unit else ""
-        raise InvalidInputError(f"{name} must be >= 0{unit}, got {number:.6g}{unit}", name=name)
+        bound = ">" if strict else ">="
+        raise InvalidInputError(
+            f"{name} must be {bound} 0{unit}, got {number:.6g}{unit}", name=name
+        )
     return number
 
 

@@ -105,7 +105,8 @@ def test_the_speed_table_counts_the_contact_choice_and_window_refusals_as_refuse
     window.__cause__ = SolverError("ipopt", "Infeasible_Problem_Detected")
     torque = InfeasibleError("torque limits stay exceeded", limit="effort", joint="right_j1")
     assert module._refused(contact) and module._refused(window)
-    assert not module._refused(torque)
+    reach = InfeasibleError("the ball is out of reach", limit="position")
+    assert not module._refused(torque) and not module._refused(reach)
     assert not module._refused(SolverError("ipopt", "Maximum_Iterations_Exceeded"))
 
 

@@ -121,6 +121,19 @@ def test_strike_caps_name_bad_input(ratio, keep, name):
     assert info.value.name == name
 
 
+def test_the_contact_choice_keeps_the_planners_margin():
+    # The default 1.3 m/s shot needs 0.88 of right_j0's velocity limit at its best contact:
+    # a planner that keeps 20 % of the limits free refuses it at the contact choice (no NLP),
+    # and so does a warm start's contact branch; the default margin plans it.
+    problem = problems.sawyer_pool_shot(1.3)
+    traj = OptimalControl("time").plan(problem)
+    assert check(traj, problem).ok
+    for warm_start in (None, traj):
+        with pytest.raises(InfeasibleError, match=r"strike speed 1\.3 m/s needs") as info:
+            OptimalControl("time", margin=0.2).plan(problem, warm_start=warm_start)
+        assert info.value.limit == "velocity" and info.value.__cause__ is None
+
+
 def test_a_strike_faster_than_any_contact_allows_is_named_within_a_second():
     planner = OptimalControl("time")
     with pytest.raises(InfeasibleError):  # warm-up: loads the LP plugin

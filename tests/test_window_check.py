@@ -17,6 +17,8 @@ from planners.window_check import QUANTITIES, WindowCheck, _velocity_peaks, run_
 #: Strike benchmark ball 3 and its heading [deg]: at 1.5 m/s its contact configurations need
 #: more than 0.99 of right_j0's velocity limit, and its window more than the limits.
 BALL_3 = ((0.7009739175308249, 0.10577670705892629, -0.04954517410420467), 2.1398940829796977)
+#: Strike benchmark ball 0 and its heading [deg].
+BALL_0 = ((0.7750190933209333, 0.2640248303393514, -0.022431430975480643), -10.991712400376326)
 
 
 def _window_peaks(traj: Trajectory, problem: problems.PoolStrike) -> tuple[float, float, float]:
@@ -101,6 +103,39 @@ def test_run_out_is_the_velocity_where_the_acceleration_reaches_zero():
         )
         np.testing.assert_allclose(a, 0.0, atol=1e-12)
         np.testing.assert_allclose(run_out(velocity, acceleration, jerk, sign), v, rtol=1e-12)
+
+
+def test_no_jerk_within_the_limit_stops_the_acceleration_with_less_run_out():
+    # Seeded random jerk profiles within the limit, held over 0.1 ms steps, take a joint's
+    # acceleration (> 0) to zero forward and backward in time: the velocity then is past
+    # run_out's, on the far side from the state's, so the speed over that stretch (the state
+    # included) peaks at least at |run_out|.
+    rng = np.random.default_rng(8)
+    jerk, dt = 300.0, 1e-4
+    for _ in range(20):
+        v0, a0 = rng.uniform(-2.0, 2.0), rng.uniform(0.5, 8.0)
+        for sign in (1.0, -1.0):
+            v, a = v0, a0
+            while True:
+                u = -sign * rng.uniform(-0.2, 1.0) * jerk  # |u| <= jerk, mostly braking a
+                step = dt
+                if a + sign * u * dt <= 0.0:  # the acceleration reaches zero in this step
+                    step = a / abs(u)
+                _, v, a = jerk_step(sign * step, 0.0, v, a, u)
+                if step < dt:
+                    break
+            bound = run_out(v0, a0, jerk, sign)
+            assert sign * (v - bound) >= -1e-9
+            assert max(abs(v), abs(v0)) >= abs(bound) - 1e-9
+
+
+def test_ball_0s_window_at_1_5_m_s_needs_more_than_the_limits_with_its_approach_and_stop():
+    # Without the run-out rows this window keeps within 0.997 of the limits, though the whole
+    # NLP is infeasible up to limits 1.01 times as large; with them a velocity binds.
+    problem = problems.sawyer_pool_shot(1.5, *BALL_0)
+    window = WindowCheck()(problem, choose_contact(problem).q)
+    assert window.converged and window.ratio > 1.01
+    assert window.limit == "velocity"
 
 
 def test_velocity_peaks_count_the_turns_between_nodes_and_the_run_outs():
