@@ -671,7 +671,7 @@ class OptimalControl(CompiledCache):
                 # keep within the limits.
                 window = self._window(problem, choice, failure)
                 windows.append(window)
-                if self._past_the_limits(window):
+                if _past_the_limits(window):
                     continue
                 # None after a seeded try, or for a choice on another branch than its own.
                 lend = len(tried) == 1 and _lends_to(problem, warm_start, choice)
@@ -706,10 +706,6 @@ class OptimalControl(CompiledCache):
         except OptrajError:
             return None
 
-    def _past_the_limits(self, window: WindowRatio | None) -> bool:
-        """Whether a window check found its window past the limits."""
-        return window is not None and window.exceeds(1.0)
-
     def _alone_error(
         self, failure: SolverError, problem: PoolStrike, choice: ContactChoice, *, searched: bool
     ) -> SolverError:
@@ -721,7 +717,7 @@ class OptimalControl(CompiledCache):
         """
         raised = _near_the_limit(failure, problem, [choice]) if searched else failure
         window = self._window(problem, choice, failure)
-        if window is None or not self._past_the_limits(window):
+        if window is None or not _past_the_limits(window):
             return raised
         return _detailed(
             raised,
@@ -745,7 +741,7 @@ class OptimalControl(CompiledCache):
         if (
             failure.status not in INFEASIBLE_STATUSES
             or not windows
-            or not all(self._past_the_limits(window) for window in windows)
+            or not all(_past_the_limits(window) for window in windows)
         ):
             return _near_the_limit(failure, problem, choices)
         best = min((w for w in windows if w is not None), key=lambda window: window.ratio)
@@ -1903,6 +1899,11 @@ def _checked_warm_start(problem: Any, warm_start: Any) -> Trajectory | None:
 def _cause(raised: OptrajError, failure: SolverError) -> BaseException | None:
     """The cause to chain ``raised`` to: the solver's own, or ``failure`` for a new kind."""
     return failure.__cause__ if isinstance(raised, SolverError) else failure
+
+
+def _past_the_limits(window: WindowRatio | None) -> bool:
+    """Whether a window check (None: none was made) found its window past the limits."""
+    return window is not None and window.exceeds(1.0)
 
 
 def _near_the_limit(

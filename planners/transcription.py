@@ -70,11 +70,13 @@ __all__ = [
     "CompiledNLP",
     "FrozenOptions",
     "Layout",
+    "Rows",
     "Structure",
     "compile_nlp",
     "freeze_options",
     "jerk_step",
     "parameter_vector",
+    "strike_node_rows",
     "structure_limits",
     "thaw_options",
     "torque_linearization",
@@ -324,7 +326,7 @@ def _nlpsol(compiled: CompiledNLP, options: dict[str, Any]) -> ca.Function:
     return ca.nlpsol("optraj_ocp", compiled.structure.solver, nlp, thawed)
 
 
-class _Rows:
+class Rows:
     """Constraint rows collected group by group."""
 
     def __init__(self) -> None:
@@ -335,6 +337,7 @@ class _Rows:
         self.count = 0
 
     def add(self, name: str, expr: ca.SX, lower: float | FloatArray, upper: float | FloatArray):
+        """Rows ``lower <= expr <= upper`` (bounds broadcast), in group ``name``."""
         size = int(expr.numel())
         if size == 0:
             return
@@ -444,7 +447,7 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
     def state(node: int) -> tuple[ca.SX, ca.SX, ca.SX]:
         return physical(node_state(node))
 
-    rows = _Rows()
+    rows = Rows()
     keep = 1.0 - structure.margin
     weights = dict(structure.weights)
     time_scale = params["time_scale"]
@@ -532,7 +535,7 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
 
 
 def _strike_rows(
-    rows: _Rows,
+    rows: Rows,
     structure: Structure,
     layout: Layout,
     symbolic: SymbolicModel,
@@ -542,26 +545,55 @@ def _strike_rows(
 ) -> None:
     """Cue tip on the schedule, cue axis on the line at every node; speed at entry and exit."""
     ph = structure.strike_phase
-    position = symbolic.frame_position(structure.tool_frame)
-    rotation = symbolic.frame_rotation(structure.tool_frame)
-    jacobian = symbolic.frame_jacobian(structure.tool_frame)
-    entry, d, e1, e2 = params["entry"], params["direction"], params["e1"], params["e2"]
-    speed = params["speed"]
+    tool = (
+        symbolic.frame_position(structure.tool_frame),
+        symbolic.frame_rotation(structure.tool_frame),
+        symbolic.frame_jacobian(structure.tool_frame),
+    )
+    entry, d = params["entry"], params["direction"]
     first, last = int(layout.first_node[ph]), int(layout.first_node[ph + 1])
     for j, node in enumerate(range(first, last + 1)):
         q, qd, _ = state(node)
-        target = entry + speed * ca.sum1(ca.vertcat(0, *h[first : first + j])) * d
-        rows.add("strike position", position(q) - target, 0.0, 0.0)
-        z = rotation(q)[:, 2]
-        rows.add("strike axis", ca.vertcat(ca.dot(e1, z), ca.dot(e2, z)), 0.0, 0.0)
-        rows.add("strike axis sign", ca.dot(d, z), 0.0, np.inf)
-        if node in (first, last):
-            velocity = jacobian(q)[:3, :] @ qd
-            rows.add("strike speed", velocity - speed * d, 0.0, 0.0)
+        target = entry + params["speed"] * ca.sum1(ca.vertcat(0, *h[first : first + j])) * d
+        strike_node_rows(rows, tool, params, q, qd, target, node in (first, last))
+
+
+def strike_node_rows(
+    rows: Rows,
+    tool: tuple[ca.Function, ca.Function, ca.Function],
+    params: dict[str, ca.SX],
+    q: ca.SX,
+    qd: ca.SX,
+    target: ca.SX,
+    at_end: bool,
+) -> None:
+    """The strike line's rows at one node, shared by the NLP and the window check.
+
+    The cue tip at ``target`` [m], the cue axis along the direction (its two components across
+    it zero, and pointing forward), and at the window's ends (``at_end``) the tip velocity
+    ``speed * direction`` [m/s].
+
+    Args:
+        rows: The rows to add to.
+        tool: The tool frame's position, rotation and Jacobian as functions of q.
+        params: ``direction``, ``e1``, ``e2`` (the unit vectors across it) and ``speed``.
+        q: Joint positions [rad or m].
+        qd: Joint velocities [rad/s or m/s].
+        target: The tip's place on the schedule [m].
+        at_end: Whether the node is the window's first or last.
+    """
+    position, rotation, jacobian = tool
+    d, e1, e2 = params["direction"], params["e1"], params["e2"]
+    rows.add("strike position", position(q) - target, 0.0, 0.0)
+    z = rotation(q)[:, 2]
+    rows.add("strike axis", ca.vertcat(ca.dot(e1, z), ca.dot(e2, z)), 0.0, 0.0)
+    rows.add("strike axis sign", ca.dot(d, z), 0.0, np.inf)
+    if at_end:
+        rows.add("strike speed", jacobian(q)[:3, :] @ qd - params["speed"] * d, 0.0, 0.0)
 
 
 def _contact_rows(
-    rows: _Rows,
+    rows: Rows,
     structure: Structure,
     symbolic: SymbolicModel,
     params: dict[str, ca.SX],

@@ -59,7 +59,7 @@ from optraj.errors import InvalidInputError, SolverError
 from optraj.validation import as_count, as_vector
 from planners.base import CompiledCache
 from planners.strike import strike_line
-from planners.transcription import jerk_step, structure_limits
+from planners.transcription import Rows, jerk_step, strike_node_rows, structure_limits
 from problems import PoolStrike
 from problems.common import normal_pair
 from robots import JointLimits, Robot, SymbolicModel
@@ -337,22 +337,18 @@ def _compile(robot: Robot, limits: JointLimits, k: int, max_iterations: int) -> 
     p = ca.SX.sym("p", 14)
     entry, d, e1, e2, speed, h = p[0:3], p[3:6], p[6:9], p[9:12], p[12], p[13]
     s = w[-1]
-    position = symbolic.frame_position(robot.tool_frame)
-    rotation = symbolic.frame_rotation(robot.tool_frame)
-    jacobian = symbolic.frame_jacobian(robot.tool_frame)
-    rows: list[ca.SX] = []
-    lbg: list[FloatArray] = []
-    ubg: list[FloatArray] = []
-
-    def add(expr: ca.SX, low: float, high: float) -> None:
-        rows.append(expr)
-        lbg.append(np.full(expr.shape[0], low))
-        ubg.append(np.full(expr.shape[0], high))
+    tool = (
+        symbolic.frame_position(robot.tool_frame),
+        symbolic.frame_rotation(robot.tool_frame),
+        symbolic.frame_jacobian(robot.tool_frame),
+    )
+    line = {"direction": d, "e1": e1, "e2": e2, "speed": speed}
+    rows = Rows()
 
     def within(scaled: ca.SX) -> None:
         """``|scaled| <= s``, element-wise."""
-        add(scaled - s, -np.inf, 0.0)
-        add(scaled + s, 0.0, np.inf)
+        rows.add("limits", scaled - s, -np.inf, 0.0)
+        rows.add("limits", scaled + s, 0.0, np.inf)
 
     def state(node: int) -> tuple[ca.SX, ca.SX, ca.SX, ca.SX]:
         z = w[node * 3 * n : (node + 1) * 3 * n]
@@ -361,12 +357,8 @@ def _compile(robot: Robot, limits: JointLimits, k: int, max_iterations: int) -> 
     cost = s
     for node in range(k + 1):
         q, qd, qdd, z = state(node)
-        add(position(q) - (entry + speed * h * node * d), 0.0, 0.0)
-        axis = rotation(q)[:, 2]
-        add(ca.vertcat(ca.dot(e1, axis), ca.dot(e2, axis)), 0.0, 0.0)
-        add(ca.dot(d, axis), 0.0, np.inf)
+        strike_node_rows(rows, tool, line, q, qd, entry + speed * h * node * d, node in (0, k))
         if node in (0, k):
-            add(jacobian(q)[:3, :] @ qd - speed * d, 0.0, 0.0)
             # The approach into the window and the stop after it (module docstring).
             within(run_out(qd, qdd, jerk, -1.0 if node == 0 else 1.0) / vel)
         within(z[n:])
@@ -375,13 +367,14 @@ def _compile(robot: Robot, limits: JointLimits, k: int, max_iterations: int) -> 
         zu = w[(k + 1) * 3 * n + node * n : (k + 1) * 3 * n + (node + 1) * n]
         q1, v1, a1, _ = state(node + 1)
         q_next, v_next, a_next = jerk_step(h, q, qd, qdd, jerk * zu)
-        add(ca.vertcat((q1 - q_next) / half, (v1 - v_next) / vel, (a1 - a_next) / acc), 0.0, 0.0)
+        step = ca.vertcat((q1 - q_next) / half, (v1 - v_next) / vel, (a1 - a_next) / acc)
+        rows.add("dynamics", step, 0.0, 0.0)
         within(ca.vertcat((qd + h / 2 * qdd) / vel, zu))  # velocity's middle Bernstein term
         cost += 1e-6 * ca.sumsqr(zu)  # a unique jerk where the slack leaves it free
     solver = ca.nlpsol(
         "window_check",
         "ipopt",
-        {"x": w, "p": p, "f": cost, "g": ca.vertcat(*rows)},
+        {"x": w, "p": p, "f": cost, "g": ca.vertcat(*rows.rows)},
         {
             "expand": True,
             "print_time": False,
@@ -406,8 +399,8 @@ def _compile(robot: Robot, limits: JointLimits, k: int, max_iterations: int) -> 
         solver=solver,
         lbx=lbx,
         ubx=ubx,
-        lbg=np.concatenate(lbg),
-        ubg=np.concatenate(ubg),
+        lbg=np.concatenate(rows.lower),
+        ubg=np.concatenate(rows.upper),
         mid=mid,
         half=half,
         scale=(vel, acc, jerk),
