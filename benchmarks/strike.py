@@ -33,7 +33,7 @@ import numpy as np
 
 import problems
 from benchmarking import SEED, SPEED, pool_shots, progress, shot_arguments, write_report
-from optraj.errors import InfeasibleError, OptrajError, SolverError
+from optraj.errors import CONTACT_CHOICE, WINDOW_CHECK, InfeasibleError, OptrajError
 from planners.checker import Report, check
 from planners.classic_strike import ClassicStrike
 from planners.optimal_control import OptimalControl
@@ -248,9 +248,7 @@ def _compiled_then_timed(planner: OptimalControl, problem: problems.PoolStrike) 
 
 def _refused(error: OptrajError) -> bool:
     """Whether a plan's error is the contact choice's or the window check's refusal."""
-    return isinstance(error, InfeasibleError) and (
-        error.limit == "velocity" or isinstance(error.__cause__, SolverError)
-    )
+    return isinstance(error, InfeasibleError) and error.found_by in (CONTACT_CHOICE, WINDOW_CHECK)
 
 
 def _variant(

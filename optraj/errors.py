@@ -208,6 +208,12 @@ class InfeasibleError(OptrajError):
         joint: The binding joint, if one is known.
         required: The value the motion needs.
         allowed: The limit.
+        max_speed: For a strike, the fastest strike speed the finding allows [m/s]; None
+            when the error is not about a strike's speed.
+        found_by: Which check refused the motion: :data:`CONTACT_CHOICE` (no contact
+            configuration reaches the strike speed within the velocity limits, before any
+            solve), :data:`WINDOW_CHECK` (a solve found the strike infeasible, and every strike
+            window tried needs more than the limits), or None (any other finding).
     """
 
     def __init__(
@@ -218,12 +224,24 @@ class InfeasibleError(OptrajError):
         joint: str | None = None,
         required: float | None = None,
         allowed: float | None = None,
+        max_speed: float | None = None,
+        found_by: str | None = None,
     ) -> None:
         self.limit = limit
         self.joint = joint
         self.required = required
         self.allowed = allowed
+        self.max_speed = max_speed
+        self.found_by = found_by
         super().__init__(message)
+
+
+#: :attr:`InfeasibleError.found_by` of a strike no contact configuration makes within the
+#: velocity limits (refused before any solve).
+CONTACT_CHOICE = "contact choice"
+#: :attr:`InfeasibleError.found_by` of a strike the solver found infeasible whose strike
+#: windows each need more than the limits.
+WINDOW_CHECK = "window check"
 
 
 class SolverError(OptrajError):

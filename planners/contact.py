@@ -45,7 +45,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
-from optraj.errors import InfeasibleError, InvalidInputError, SolverError
+from optraj.errors import CONTACT_CHOICE, InfeasibleError, InvalidInputError, SolverError
 from optraj.validation import as_array, as_count, as_vector
 from problems import PaddleStrike, PoolStrike
 from problems.common import normal_pair, unit_vector
@@ -723,10 +723,11 @@ def choose_contact(
     Raises:
         InfeasibleError: Even the best configuration needs a joint faster than its velocity
             limit (``limit="velocity"``, the binding ``joint``, ``required`` its speed and
-            ``allowed`` its limit times 1 - margin [rad/s or m/s]); the exception also carries
-            ``max_speed``, the fastest strike speed that would pass [m/s]. Also raised (with
-            ``limit="position"``) when no pool candidate keeps the line's entry and exit
-            reachable within the position limits.
+            ``allowed`` its limit times 1 - margin [rad/s or m/s], ``max_speed`` the fastest
+            strike speed that would pass [m/s], ``found_by``
+            :data:`optraj.errors.CONTACT_CHOICE`). Also raised (with ``limit="position"``)
+            when no pool candidate keeps the line's entry and exit reachable within the
+            position limits.
         InvalidInputError: Another problem type, or bad ``candidates``, ``seed`` or ``margin``.
         SolverError: HiGHS fails on an LP (not expected).
     """
@@ -972,13 +973,13 @@ def _too_fast(
     """The error for a strike faster than the velocity limits allow anywhere searched."""
     fastest = (1.0 - margin) / r1 if r1 > 0.0 else math.inf
     if not binding:  # singular everywhere: no joint velocity gives the motion
-        error = InfeasibleError(
+        return InfeasibleError(
             f"strike speed {speed:.3g} m/s: {which} cannot move the tool along the strike "
             f"direction at all (singular)",
             limit="velocity",
+            max_speed=0.0,
+            found_by=CONTACT_CHOICE,
         )
-        error.max_speed = 0.0  # type: ignore[attr-defined]
-        return error
     j = binding[0]
     unit = limits.unit("velocity", j)
     required = abs(float(qd1[j])) * speed
@@ -989,7 +990,7 @@ def _too_fast(
         f"; {', '.join(others)} {'is' if len(others) == 1 else 'are'} as far over" if others else ""
     )
     kept = f" (with margin {margin:.3g}: {allowed:.4g} {unit})" if margin > 0.0 else ""
-    error = InfeasibleError(
+    return InfeasibleError(
         f"strike speed {speed:.3g} m/s needs {limits.names[j]} at {required:.3g} {unit}, limit "
         f"{limit:.4g} {unit}{kept}{also}; the fastest strike {which} allows is "
         f"{fastest:.3g} m/s",
@@ -997,6 +998,6 @@ def _too_fast(
         joint=limits.names[j],
         required=required,
         allowed=allowed,
+        max_speed=fastest,
+        found_by=CONTACT_CHOICE,
     )
-    error.max_speed = fastest  # type: ignore[attr-defined]
-    return error

@@ -139,12 +139,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from optraj.errors import (
+    WINDOW_CHECK,
     InfeasibleError,
     InvalidInputError,
     MissingDependencyError,
     OptrajError,
+    PathJumpError,
     SolverError,
     UnknownNameError,
+    UnreachableError,
 )
 from optraj.validation import as_array, as_count, as_positive
 from planners.base import CompiledCache, stamp
@@ -260,6 +263,11 @@ STRIKE_ACCELERATION_ROOM = 10.0
 TIGHT_RATIO = HEADROOM
 #: The solver statuses of an NLP found (locally) infeasible.
 INFEASIBLE_STATUSES = frozenset({"Infeasible_Problem_Detected", "Restoration_Failed"})
+#: IK samples of the strike line in a pool strike's first guess (:func:`_window_guess`).
+LINE_SAMPLES = 10
+#: The same when the joints jump between those samples by more than
+#: :func:`planners.cartesian.follow_tool_path`'s threshold.
+LINE_SAMPLES_FINE = 40
 
 
 @dataclass(frozen=True)
@@ -759,6 +767,8 @@ class OptimalControl(CompiledCache):
             joint=best.joint,
             required=best.required,
             allowed=best.allowed,
+            max_speed=best.max_speed,
+            found_by=WINDOW_CHECK,
         )
 
     def _attempt(
@@ -2023,7 +2033,7 @@ def _pool(
     ):
         guess = warm_start
     else:
-        line = strike_line(problem, 10, q_contact=choice.q)
+        line = _window_guess(problem, choice)
         entry = line.sample(0.0)
         leave = line.sample(line.duration)
         approach = _guess_move(
@@ -2059,6 +2069,41 @@ def _pool(
         strike_phase=1,
         contact=choice,
     )
+
+
+def _window_guess(problem: PoolStrike, choice: ContactChoice) -> Trajectory:
+    """The strike window of a pool strike's first guess, ``problem.window`` long.
+
+    The line followed by IK with the cue's roll kept from the contact configuration
+    (:func:`planners.strike.strike_line`, :data:`LINE_SAMPLES` samples, then
+    :data:`LINE_SAMPLES_FINE` when the joints jump between them: a joint pinned on a
+    position limit makes the others turn fast). When the finer line still jumps, or a pose on
+    it has no solution with that roll, the guess joins the contact choice's own entry,
+    contact and exit configurations (which it reached with the roll free) by quintics at the
+    contact's joint velocity; the solver then puts the cue on the line.
+    """
+    failure: OptrajError | None = None
+    for samples in (LINE_SAMPLES, LINE_SAMPLES_FINE):
+        try:
+            return strike_line(problem, samples, q_contact=choice.q)
+        except PathJumpError as error:
+            failure = error
+        except UnreachableError as error:
+            failure = error
+            break
+    if choice.q_entry is None or choice.q_exit is None:
+        raise failure  # pragma: no cover - a pool choice always has its entry and exit
+    q = np.asarray(choice.q, dtype=float)
+    qd = np.asarray(choice.qd, dtype=float)
+    into = float(problem.contact_delay)
+    out = float(problem.window) - into
+    coefficients = np.stack(
+        [
+            quintic_coefficients(choice.q_entry, q, into, qd, qd),
+            quintic_coefficients(q, choice.q_exit, out, qd, qd),
+        ]
+    )
+    return Trajectory([0.0, into, into + out], coefficients)
 
 
 def _paddle(problem: PaddleStrike, choice: ContactChoice) -> _Spec:

@@ -97,17 +97,23 @@ def test_strike_quick_run_writes_its_table(tmp_path, monkeypatch):
 
 
 def test_the_speed_table_counts_the_contact_choice_and_window_refusals_as_refused(monkeypatch):
-    from optraj.errors import InfeasibleError, SolverError
+    from optraj.errors import CONTACT_CHOICE, WINDOW_CHECK, InfeasibleError, SolverError
 
     module = _load("strike", monkeypatch)
-    contact = InfeasibleError("no contact reaches 2.5 m/s", limit="velocity", joint="right_j1")
-    window = InfeasibleError("window past the limits", limit="acceleration", joint="right_j3")
-    window.__cause__ = SolverError("ipopt", "Infeasible_Problem_Detected")
+    contact = InfeasibleError(
+        "no contact reaches 2.5 m/s", limit="velocity", joint="right_j1", found_by=CONTACT_CHOICE
+    )
+    window = InfeasibleError(
+        "window past the limits", limit="acceleration", joint="right_j3", found_by=WINDOW_CHECK
+    )
     torque = InfeasibleError("torque limits stay exceeded", limit="effort", joint="right_j1")
     assert module._refused(contact) and module._refused(window)
     reach = InfeasibleError("the ball is out of reach", limit="position")
-    assert not module._refused(torque) and not module._refused(reach)
-    assert not module._refused(SolverError("ipopt", "Maximum_Iterations_Exceeded"))
+    # Neither the limit nor a chained solver error makes a refusal: only the finding's mark.
+    duration = InfeasibleError("contact_time is too short", limit="velocity", joint="J1")
+    duration.__cause__ = SolverError("ipopt", "Infeasible_Problem_Detected")
+    for other in (torque, reach, duration, SolverError("ipopt", "Maximum_Iterations_Exceeded")):
+        assert not module._refused(other)
 
 
 def test_tracking_quick_run_writes_its_tables(tmp_path, monkeypatch):

@@ -22,7 +22,13 @@ from scipy.linalg import null_space
 from scipy.optimize import linprog
 
 import problems
-from optraj.errors import InfeasibleError, InvalidInputError, JointLimitError, UnreachableError
+from optraj.errors import (
+    CONTACT_CHOICE,
+    InfeasibleError,
+    InvalidInputError,
+    JointLimitError,
+    UnreachableError,
+)
 from planners.cartesian import paddle_contact_velocity
 from planners.contact import (
     ContactChoice,
@@ -561,6 +567,7 @@ def test_too_fast_pool_strike_is_rejected_within_a_second_and_the_bound_is_exact
     assert error.required > error.allowed
     assert error.joint in str(error) and "2.5 m/s" in str(error)
     assert 0.0 < error.max_speed < 2.5
+    assert error.found_by == CONTACT_CHOICE
     # Same geometry at other speeds: the ratios scale, so the reported speed is the boundary.
     choice = choose_contact(dataclasses.replace(problem, speed=0.99 * error.max_speed))
     assert 0.98 <= choice.ratio <= 1.0

@@ -94,7 +94,15 @@ def test_path_jump_error_names_time_joint_and_size():
         errors.JointLimitError("J4", 1.9, -1.5708, 1.5708, unit="rad", context="IK"),
         errors.WorkspaceError((2.0, 0.0, 0.5), "x", 2.0, -1.0, 1.0),
         errors.UnreachableError("no IK", position_error=0.1, orientation_error=0.0, attempts=4),
-        errors.InfeasibleError("too fast", limit="velocity", joint="J1", required=3.0, allowed=2.0),
+        errors.InfeasibleError(
+            "too fast",
+            limit="velocity",
+            joint="J1",
+            required=3.0,
+            allowed=2.0,
+            max_speed=0.8,
+            found_by=errors.CONTACT_CHOICE,
+        ),
         errors.SolverError("ipopt", "Infeasible_Problem_Detected", iterations=9, detail="why"),
         errors.CompilerError("gcc", "not found"),
         errors.PathJumpError(0.5, "J2", 0.8, 0.1),
@@ -102,7 +110,7 @@ def test_path_jump_error_names_time_joint_and_size():
     ids=lambda error: type(error).__name__,
 )
 def test_errors_pickle_with_their_message_and_data(error):
-    error.extra = 1.25  # attributes set after construction (as max_speed is) travel too
+    error.extra = 1.25  # attributes set after construction travel too
     copy = pickle.loads(pickle.dumps(error))
     assert type(copy) is type(error)
     assert str(copy) == str(error) and copy.args == error.args

@@ -14,11 +14,14 @@ from conftest import get_robot
 
 import problems
 from optraj.errors import (
+    WINDOW_CHECK,
     InfeasibleError,
     InvalidInputError,
     MissingDependencyError,
+    PathJumpError,
     SolverError,
     UnknownNameError,
+    UnreachableError,
 )
 from planners import Quintic, Trajectory, check, lower_bound
 from planners.contact import BRANCH_SPREAD, ContactChoice
@@ -89,6 +92,38 @@ def test_slow_pool_strikes_pass_the_checker(speed):
         traj = planner.plan(problem)
         report = check(traj, problem)
         assert report.ok, report.summary()
+
+
+def test_a_contact_on_a_position_limit_plans_although_its_guess_line_jumps():
+    # Found by a seeded random probe: the contact configuration has right_j4 on its lower
+    # limit, which the IK of the guess's strike line then pins there, so right_j3 turns 0.14
+    # rad between the last two of 10 samples; the plan ended in that PathJumpError.
+    heading = float(np.degrees(np.arctan2(-0.84535494, 0.53420504)))
+    problem = problems.sawyer_pool_shot(0.05, (1.06554361, -0.2979797, -0.09508575), heading)
+    traj = OptimalControl("time").plan(problem)
+    report = check(traj, problem)
+    assert report.ok, report.summary()
+    assert report["position"].joint == "right_j4"  # on its limit, within the tolerance
+
+
+@pytest.mark.parametrize(
+    "raised", [PathJumpError(0.1, "right_j3", 0.2, 0.1), None], ids=["jumps", "unreachable"]
+)
+def test_a_pool_guess_without_its_line_starts_from_the_contact_choice(monkeypatch, raised):
+    # When the guess's line cannot be followed (it jumps, or a pose with the contact's roll
+    # has no solution), the guess joins the choice's entry, contact and exit by quintics.
+    problem = problems.sawyer_pool_shot(1.0)
+    failure = raised or UnreachableError(
+        "no IK", position_error=0.1, orientation_error=0.0, attempts=1
+    )
+
+    def refused(*args, **kwargs):
+        raise failure
+
+    monkeypatch.setattr("planners.optimal_control.strike_line", refused)
+    traj = OptimalControl("time").plan(problem)
+    report = check(traj, problem)
+    assert report.ok, report.summary()
 
 
 def test_strike_caps_bound_the_strike_nodes_only():
@@ -181,6 +216,9 @@ def test_a_strike_whose_window_needs_more_than_the_limits_is_refused_with_the_wi
     slower = float(re.search(r"run at ([0-9.]+) m/s", str(error))[1])
     assert 1.0 < slower < 1.5
     assert str(error).endswith("a slower strike may plan")
+    # The finding is marked as the window check's, with the slower speed it names.
+    assert error.found_by == WINDOW_CHECK
+    assert error.max_speed == pytest.approx(slower, rel=1e-3)
 
 
 def _tight_choice(max_speed: float) -> ContactChoice:
