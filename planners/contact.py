@@ -60,6 +60,7 @@ __all__ = [
     "choose_contact",
     "contact_choices",
     "contact_near",
+    "stopping_speeds",
     "twist_ratio",
 ]
 
@@ -951,6 +952,8 @@ def _choose_paddle(problem: PaddleStrike, margin: float) -> ContactChoice:
     speed = float(problem.speed)
     if speed > 0.0 and speed * r1 > 1.0 - margin:
         raise _too_fast(limits, speed, r1, tuple(binding), qd1, margin, "the contact configuration")
+    if speed > 0.0:
+        _check_room(problem, lp, q, normal, speed, margin)
     return ContactChoice(
         q=q,
         qd=speed * qd1 if speed > 0.0 else np.zeros(q.size),
@@ -958,6 +961,80 @@ def _choose_paddle(problem: PaddleStrike, margin: float) -> ContactChoice:
         max_speed=1.0 / r1 if r1 > 0.0 else math.inf,
         binding_joint=limits.names[binding[0]] if binding else "",
         candidates=1,
+    )
+
+
+def stopping_speeds(limits: JointLimits, q: ArrayLike) -> FloatArray:
+    r"""Fastest speed at which each joint can pass q on a motion from rest to rest.
+
+    A joint that passes q at speed v within its position limits, with
+    :math:`|\ddot q| \le a`, on a motion that starts and ends at rest, reached v from rest
+    behind q and comes to rest ahead of it: it needs :math:`v^2 / (2 a)` of room on both sides
+    of q, so
+
+    .. math::
+
+        v \le \sqrt{2 a \min(q - q_{lower}, q_{upper} - q)}.
+
+    The jerk limit asks for more room still, so this is a bound, not a speed that can always
+    be reached.
+
+    Args:
+        limits: The joint limits.
+        q: Configuration within the position limits [rad or m], shape (n,).
+
+    Returns:
+        The speeds [rad/s or m/s], shape (n,).
+    """
+    here = as_vector(q, "q", limits.n)
+    room = np.maximum(np.minimum(here - limits.lower, limits.upper - here), 0.0)
+    return np.sqrt(2.0 * np.asarray(limits.acceleration, dtype=float) * room)
+
+
+def _check_room(
+    problem: PaddleStrike,
+    lp: _MinMaxRatio,
+    q: FloatArray,
+    normal: FloatArray,
+    speed: float,
+    margin: float,
+) -> None:
+    """Refuse a paddle strike whose contact leaves a joint too little room to pass it.
+
+    The contact configuration is the paddle's only one, and the contact fixes the ball
+    point's velocity but not the paddle's turning: a joint velocity that gives the strike
+    within the velocity limits and :func:`stopping_speeds` exists, or no motion from rest to
+    rest makes the strike within the position and acceleration limits.
+    """
+    limits = problem.limits
+    allowed = np.minimum((1.0 - margin) * np.asarray(limits.velocity), stopping_speeds(limits, q))
+    r1, qd1 = _unit_ratio(lp, problem.robot, q, normal, allowed, BALL_OFFSET, None)
+    if speed * r1 <= 1.0:
+        return
+    binding = _binding(qd1, allowed) or list(range(limits.n))
+    tight = [j for j in binding if allowed[j] < (1.0 - margin) * limits.velocity[j]]
+    j = (tight or binding)[0]
+    unit = limits.unit("position", j)
+    room = float(min(q[j] - limits.lower[j], limits.upper[j] - q[j]))
+    side = "lower" if q[j] - limits.lower[j] <= limits.upper[j] - q[j] else "upper"
+    need = abs(float(qd1[j])) * speed if math.isfinite(r1) else math.inf
+    acceleration = float(limits.acceleration[j])
+    required = need * need / (2.0 * acceleration)
+    fastest = 1.0 / r1 if r1 > 0.0 else 0.0
+    raise InfeasibleError(
+        f"paddle strike at {speed:.3g} m/s: at the contact configuration {limits.names[j]} is "
+        f"{room:.4g} {unit} from its {side} limit; the joint velocity that gives the strike "
+        f"with the least excess over the joints' rooms still moves it at {need:.3g} "
+        f"{limits.unit('velocity', j)}, which needs {required:.4g} {unit} on both sides to "
+        f"start from and come back to rest at {acceleration:.4g} "
+        f"{limits.unit('acceleration', j)}; the fastest strike this contact allows is at "
+        f"most {fastest:.3g} m/s (the jerk limit asks for more room still)",
+        limit="position",
+        joint=limits.names[j],
+        required=required,
+        allowed=room,
+        max_speed=fastest,
+        found_by=CONTACT_CHOICE,
     )
 
 

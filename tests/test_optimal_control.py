@@ -14,6 +14,7 @@ from conftest import get_robot
 
 import problems
 from optraj.errors import (
+    CONTACT_CHOICE,
     WINDOW_CHECK,
     InfeasibleError,
     InvalidInputError,
@@ -323,6 +324,22 @@ def test_paddle_strikes_pass_the_checker():
         assert report.ok, report.summary()
         if problem.speed == 0.0:  # the seed's task: at the ball at rest after exactly T
             assert traj.duration == pytest.approx(problem.contact_time, abs=1e-9)
+
+
+def test_a_paddle_strike_without_room_at_contact_is_refused_before_the_solve():
+    # J3 is 29 mm from its upper limit at contact: the NLP found this strike infeasible after
+    # 77 iterations and named only "dynamics". Now the contact choice refuses it with J3's
+    # room; a strike 5 % under the speed it names plans (the jerk limit takes some room too).
+    robot = get_robot("paddle4")
+    ball, angle = (1.08197713, -0.72308109, 0.24624905), 0.5057469237104932
+    problem = problems.PaddleStrike(robot, ball=ball, contact_angle=angle, speed=1.5)
+    planner = OptimalControl("time")
+    with pytest.raises(InfeasibleError, match=r"J3 is 0\.02909 m from its upper limit") as info:
+        planner.plan(problem)
+    assert info.value.found_by == CONTACT_CHOICE and info.value.__cause__ is None
+    slower = dataclasses.replace(problem, speed=0.95 * info.value.max_speed)
+    report = check(planner.plan(slower), slower)
+    assert report.ok, report.summary()
 
 
 # ----------------------------------------------------------------------------- joint moves
