@@ -286,7 +286,12 @@ class CompiledNLP:
                 options["ipopt.warm_start_init_point"] = "yes"
                 options["ipopt.warm_start_bound_push"] = 1e-9
                 options["ipopt.warm_start_mult_bound_push"] = 1e-9
-                options["ipopt.mu_init"] = 1e-7
+                # The barrier starts where a cold solve's stopping test leaves it (IPOPT
+                # stops once the barrier problem is solved to barrier_tol_factor = 10 times
+                # the barrier parameter): a tenth of the tolerance, 1e-7 at IPOPT's own 1e-6.
+                # From a solution to 1e-4, a start at 1e-7 took 380 iterations over 20 warm
+                # strike re-plans against 216 from solutions to 1e-6.
+                options["ipopt.mu_init"] = 0.1 * float(options.get("ipopt.tol", 1e-6))
                 # A warm solve that has not converged by then is dropped for a cold one from
                 # the same primal point (OptimalControl._solve).
                 options["ipopt.max_iter"] = min(

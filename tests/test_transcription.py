@@ -185,3 +185,18 @@ def test_group_order_gathers_every_row_of_each_group_once():
     for name, start, end in zip(names, starts.tolist(), ends, strict=True):
         rows = [r for group, a, b in compiled.groups if group == name for r in range(a, b)]
         assert order[start:end].tolist() == rows
+
+
+@pytest.mark.parametrize(("tolerance", "barrier"), [(None, 1e-7), (1e-6, 1e-7), (1e-4, 1e-5)])
+def test_a_warm_start_barrier_starts_at_a_tenth_of_the_tolerance(monkeypatch, tolerance, barrier):
+    # A cold solve stops once its barrier problem is solved to 10 times the barrier parameter,
+    # so a solution to tolerance t was found at a barrier of about t / 10.
+    options = () if tolerance is None else (("ipopt.tol", tolerance),)
+    _, compiled = _compiled(options=options)
+    passed = {}
+    monkeypatch.setattr(
+        "planners.transcription._nlpsol", lambda nlp, given: passed.update(given) or "solver"
+    )
+    assert compiled.warm() == "solver"
+    assert passed["ipopt.mu_init"] == pytest.approx(barrier, rel=1e-12)
+    assert passed["ipopt.warm_start_init_point"] == "yes"
