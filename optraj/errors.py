@@ -210,9 +210,10 @@ class InfeasibleError(OptrajError):
         allowed: The limit.
         max_speed: For a strike, the fastest strike speed the finding allows [m/s]; None
             when the error is not about a strike's speed.
-        found_by: Which check refused the motion: :data:`CONTACT_CHOICE` (no contact
-            configuration reaches the strike speed within the velocity limits, before any
-            solve), :data:`WINDOW_CHECK` (a solve found the strike infeasible, and every strike
+        found_by: Which check refused the motion: :data:`CONTACT_CHOICE` (before any
+            solve, no contact configuration reaches the strike speed within the velocity
+            limits, or a paddle contact leaves a joint too little room to pass it at that
+            speed), :data:`WINDOW_CHECK` (a solve found the strike infeasible, and every strike
             window tried needs more than the limits), or None (any other finding).
     """
 
@@ -236,8 +237,8 @@ class InfeasibleError(OptrajError):
         super().__init__(message)
 
 
-#: :attr:`InfeasibleError.found_by` of a strike no contact configuration makes within the
-#: velocity limits (refused before any solve).
+#: :attr:`InfeasibleError.found_by` of a strike the contact choice refuses before any solve
+#: (too fast for the velocity limits, or for a paddle contact's room to its position limits).
 CONTACT_CHOICE = "contact choice"
 #: :attr:`InfeasibleError.found_by` of a strike the solver found infeasible whose strike
 #: windows each need more than the limits.

@@ -726,9 +726,11 @@ def choose_contact(
             limit (``limit="velocity"``, the binding ``joint``, ``required`` its speed and
             ``allowed`` its limit times 1 - margin [rad/s or m/s], ``max_speed`` the fastest
             strike speed that would pass [m/s], ``found_by``
-            :data:`optraj.errors.CONTACT_CHOICE`). Also raised (with ``limit="position"``)
+            :data:`optraj.errors.CONTACT_CHOICE`). Also raised with ``limit="position"``:
             when no pool candidate keeps the line's entry and exit reachable within the
-            position limits.
+            position limits, and (``found_by`` the contact choice too, ``required`` and
+            ``allowed`` the room [rad or m]) when a paddle contact leaves a joint too little
+            room to start from and come back to rest around it (:func:`stopping_speeds`).
         InvalidInputError: Another problem type, or bad ``candidates``, ``seed`` or ``margin``.
         SolverError: HiGHS fails on an LP (not expected).
     """
@@ -1007,12 +1009,13 @@ def _check_room(
     rest makes the strike within the position and acceleration limits.
     """
     limits = problem.limits
-    allowed = np.minimum((1.0 - margin) * np.asarray(limits.velocity), stopping_speeds(limits, q))
+    kept = (1.0 - margin) * np.asarray(limits.velocity, dtype=float)
+    allowed = np.minimum(kept, stopping_speeds(limits, q))
     r1, qd1 = _unit_ratio(lp, problem.robot, q, normal, allowed, BALL_OFFSET, None)
     if speed * r1 <= 1.0:
         return
     binding = _binding(qd1, allowed) or list(range(limits.n))
-    tight = [j for j in binding if allowed[j] < (1.0 - margin) * limits.velocity[j]]
+    tight = [j for j in binding if allowed[j] < kept[j]]
     j = (tight or binding)[0]
     unit = limits.unit("position", j)
     room = float(min(q[j] - limits.lower[j], limits.upper[j] - q[j]))

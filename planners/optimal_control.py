@@ -2090,11 +2090,10 @@ def _window_guess(problem: PoolStrike, choice: ContactChoice) -> Trajectory:
     for samples in (LINE_SAMPLES, LINE_SAMPLES_FINE):
         try:
             return strike_line(problem, samples, q_contact=choice.q)
-        except PathJumpError as error:
+        except (PathJumpError, UnreachableError) as error:
             failure = error
-        except UnreachableError as error:
-            failure = error
-            break
+            if isinstance(error, UnreachableError):
+                break  # more samples reach no more poses
     if choice.q_entry is None or choice.q_exit is None:
         raise failure  # pragma: no cover - a pool choice always has its entry and exit
     q = np.asarray(choice.q, dtype=float)
