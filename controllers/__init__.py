@@ -1,8 +1,8 @@
 """How to follow a trajectory: pseudo-inverse + PID, the OSQP differential-IK QP, simulation.
 
 Every controller has ``reset(state)`` and ``step(state, reference, dt) -> Command`` (a joint
-velocity command); :func:`simulate` runs one in closed loop on a simulated robot and measures
-how well it tracked.
+velocity command, with the plan's feed-forward torque for the plant's servo); :func:`simulate`
+runs one in closed loop on a simulated robot and measures how well it tracked.
 
 >>> import controllers, planners, problems
 >>> shot = problems.sawyer_pool_shot(speed=1.0)

@@ -2,14 +2,22 @@ r"""The one face of every controller, and what it reads and returns.
 
 A controller follows a planned :class:`planners.Trajectory`. At every control step it gets the
 measured :class:`State`, the :class:`Reference` (the trajectory sampled at that time, with the
-tool pose and twist) and the step length, and returns a :class:`Command`: a joint velocity.
+tool pose and twist) and the step length, and returns a :class:`Command`: a joint velocity,
+and optionally a feed-forward joint torque that the plant adds to its servo torque.
 
 >>> controller.reset(state)
 >>> command = controller.step(state, reference, dt)
->>> command.qd   # joint velocity command [rad/s or m/s], shape (n,)
+>>> command.qd    # joint velocity command [rad/s or m/s], shape (n,)
+>>> command.tau   # feed-forward joint torque [N m or N], shape (n,), or None
 
 :func:`sample_references` samples a trajectory once at every control time (batched forward
-kinematics), so that the kinematics of the plan are not part of a controller's step time.
+kinematics and inverse dynamics), so that neither is part of a controller's step time. The
+plan's feed-forward torque is its inverse dynamics without gravity,
+
+.. math:: \tau_{ff} = M(q_r) \ddot q_r + C(q_r, \dot q_r) \dot q_r
+    = \mathrm{RNEA}(q_r, \dot q_r, \ddot q_r) - g(q_r),
+
+since a plant compensates gravity at the measured configuration itself.
 """
 
 from __future__ import annotations
@@ -33,6 +41,7 @@ __all__ = [
     "Reference",
     "References",
     "State",
+    "as_flag",
     "as_gains",
     "cross3",
     "rotation_error",
@@ -68,6 +77,9 @@ class Reference(NamedTuple):
         twist: Planned tool twist ``[v; omega]`` in world axes [m/s; rad/s], shape (6,);
             ``v`` is the velocity of the tool frame origin.
         phase: Name of the trajectory phase at ``t`` (``""`` when the trajectory has none).
+        tau: Planned feed-forward joint torque [N m or N], shape (n,): the plan's inverse
+            dynamics without gravity, ``rnea(q, qd, qdd) - g(q)``; None when not known (no
+            feed-forward).
     """
 
     t: float
@@ -77,6 +89,7 @@ class Reference(NamedTuple):
     T_world_tool: FloatArray
     twist: FloatArray
     phase: str = ""
+    tau: FloatArray | None = None
 
 
 class Command(NamedTuple):
@@ -86,10 +99,13 @@ class Command(NamedTuple):
         qd: Joint velocity command [rad/s or m/s], shape (n,).
         status: ``"ok"``, or ``"fallback: <reason>"`` when the controller could not compute
             its command and sent a safe one instead (held or decelerated).
+        tau: Feed-forward joint torque [N m or N], shape (n,), that the plant adds to its
+            servo torque on top of its own gravity compensation; None for none.
     """
 
     qd: FloatArray
     status: str = "ok"
+    tau: FloatArray | None = None
 
     @property
     def fallback(self) -> bool:
@@ -141,6 +157,8 @@ class References:
         T_world_tool: Tool poses, shape (m, 4, 4).
         twist: Tool twists ``[v; omega]`` in world axes, shape (m, 6).
         phase: Phase name at each time, length m.
+        tau: Feed-forward joint torques [N m or N], shape (m, n): the plan's inverse dynamics
+            without gravity (see :class:`Reference`); None when not known.
     """
 
     t: FloatArray
@@ -150,6 +168,7 @@ class References:
     T_world_tool: FloatArray
     twist: FloatArray
     phase: tuple[str, ...]
+    tau: FloatArray | None = None
 
     def __len__(self) -> int:
         return int(self.t.size)
@@ -163,7 +182,19 @@ class References:
             self.T_world_tool[k],
             self.twist[k],
             self.phase[k],
+            None if self.tau is None else self.tau[k],
         )
+
+
+def as_flag(value: object, name: str) -> bool:
+    """A True/False switch, as a bool.
+
+    Raises:
+        InvalidInputError: Anything but a bool (an int or a string is refused).
+    """
+    if not isinstance(value, (bool, np.bool_)):
+        raise InvalidInputError(f"{name} must be True or False, got {value!r}", name=name)
+    return bool(value)
 
 
 def as_gains(
@@ -207,7 +238,7 @@ def as_gains(
 
 
 def sample_references(robot: Robot, trajectory: Trajectory, times: ArrayLike) -> References:
-    """Sample a trajectory with its tool pose and twist at the given times.
+    """Sample a trajectory with its tool pose, twist and feed-forward torque at the given times.
 
     Args:
         robot: The robot the trajectory is for.
@@ -215,8 +246,8 @@ def sample_references(robot: Robot, trajectory: Trajectory, times: ArrayLike) ->
         times: Times [s], within [0, duration], shape (m,).
 
     Raises:
-        InvalidInputError: The trajectory's joint count differs from the robot's, or a time
-            lies outside the trajectory.
+        InvalidInputError: The trajectory's joint count differs from the robot's, a time
+            lies outside the trajectory, or the inverse dynamics overflowed.
     """
     if not isinstance(trajectory, Trajectory):
         raise InvalidInputError(
@@ -233,6 +264,9 @@ def sample_references(robot: Robot, trajectory: Trajectory, times: ArrayLike) ->
     poses = robot.tool_pose(sample.q)
     jacobians = robot.jacobian(sample.q)
     twists = np.einsum("mij,mj->mi", jacobians, sample.qd)
+    torques = robot.inverse_dynamics(sample.q, sample.qd, sample.qdd) - robot.gravity_torque(
+        sample.q
+    )
     names = [""] * t.size
     for phase in trajectory.phases:  # later phases win at shared boundaries
         inside = np.flatnonzero(
@@ -248,6 +282,7 @@ def sample_references(robot: Robot, trajectory: Trajectory, times: ArrayLike) ->
         T_world_tool=poses,
         twist=twists,
         phase=tuple(names),
+        tau=torques,
     )
 
 

@@ -5,14 +5,19 @@ Each step solves, for the joint velocity command :math:`\dot q`,
 .. math::
 
     \min_{\dot q} \; \tfrac12 \|J \dot q - v_{cmd}\|_W^2 + \tfrac{\lambda}{2} \|\dot q\|^2
-        + \tfrac{w}{2} \|\dot q - k (q_{ref} - q)\|^2
+        + \tfrac{w}{2} \|\dot q - (\dot q_{ref} + k (q_{ref} - q))\|^2
 
     \text{s.t.} \quad |\dot q| \le \dot q_{max}, \quad
     |\dot q - \dot q_{last}| \le \ddot q_{max} \Delta t, \quad
     \text{position limits over the next step, with room to brake}
 
 with :math:`v_{cmd}` from the same Cartesian PID law as
-:class:`~controllers.pseudo_inverse_pid.PseudoInversePID`. The pieces come from
+:class:`~controllers.pseudo_inverse_pid.PseudoInversePID`. The posture term moves with the
+planned joint velocity :math:`\dot q_{ref}`, so that a redundant arm's self-motion follows the
+plan's rather than lagging it (``posture_velocity=False``: a posture at rest). The command
+carries the plan's feed-forward torque :attr:`Reference.tau
+<controllers.controller.Reference>` (``feedforward=False``: none), which the plant adds to its
+velocity servo. The pieces come from
 :mod:`controllers.qp_terms` and are added up by :func:`~controllers.qp_terms.combine`. The
 sparse OSQP problem is set up once; each step only updates its numbers (``H``'s upper
 triangle, ``c`` and the bounds) and starts from the last solution.
@@ -38,7 +43,7 @@ When OSQP does not return a solution within the bounds, the controller sends a s
 instead: the last command brought towards rest at the acceleration limit. It keeps the
 velocity and acceleration limits, and the braking room of the position bounds that held on the
 steps before stops the joints short of their position limits; extra constraint rows are not
-considered. :attr:`Command.status` says so.
+considered. :attr:`Command.status` says so, and the fallback carries no feed-forward torque.
 """
 
 from __future__ import annotations
@@ -53,7 +58,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import lapack
 
 from controllers.cartesian_pid import CartesianPID, tool_kinematics
-from controllers.controller import Command, Controller, Reference, State
+from controllers.controller import Command, Controller, Reference, State, as_flag
 from controllers.fused_step import FusedStep, StepSettings
 from controllers.qp_terms import (
     QP,
@@ -113,6 +118,11 @@ class DiffIKQP(Controller):
         posture_weight: Weight ``w`` of the pull towards the planned joint positions [-];
             sets the self-motion of a redundant arm. 0 turns it off.
         posture_gain: Rate ``k`` of that pull [1/s].
+        posture_velocity: Whether the posture moves with the planned joint velocity
+            (``qd_ref + k (q_ref - q)``); False: only the pull ``k (q_ref - q)`` towards a
+            posture at rest.
+        feedforward: Whether the command carries the plan's feed-forward torque
+            (``reference.tau``); False: ``Command.tau`` is None.
         limits: Limits to respect; the robot's when None.
         velocity_scale: Fraction of the velocity limits the command may use, in (0, 1].
         position_gain: Fraction of the distance to a position limit one step may cover.
@@ -138,8 +148,8 @@ class DiffIKQP(Controller):
             handle.
 
     Raises:
-        InvalidInputError: A bad gain, weight, scale or tolerance, or limits for another
-            joint count.
+        InvalidInputError: A bad gain, weight, scale, tolerance or switch, or limits for
+            another joint count.
         UnknownNameError: An unknown task or evaluation.
         CompilerError: ``evaluation="compiled"`` and the C code did not compile.
         UnsupportedModelError: ``evaluation="compiled"`` for a robot with joints
@@ -166,6 +176,8 @@ class DiffIKQP(Controller):
         max_iterations: int = 1000,
         active_set_changes: int = ACTIVE_SET_CHANGES,
         evaluation: Literal["fused", "compiled", "pieces"] = "fused",
+        posture_velocity: bool = True,
+        feedforward: bool = True,
     ) -> None:
         self.robot = robot
         self.pid = CartesianPID(kp, ki, kd, integral_limit, task)
@@ -184,6 +196,8 @@ class DiffIKQP(Controller):
                 name="posture_weight",
             )
         self.posture_gain = as_positive(posture_gain, "posture_gain", "1/s")
+        self.posture_velocity = as_flag(posture_velocity, "posture_velocity")
+        self.feedforward = as_flag(feedforward, "feedforward")
         if limits is not None and not isinstance(limits, JointLimits):
             raise InvalidInputError(
                 f"limits must be a robots.JointLimits, got {type(limits).__name__}", name="limits"
@@ -209,6 +223,7 @@ class DiffIKQP(Controller):
         self._pose_weights = np.diag(task_weights(*self.weights)).copy()  # W is diagonal
         self._solver: _Workspace | None = None
         self._last = np.zeros(robot.dof)
+        self._rest = np.zeros(robot.dof)  # the posture's velocity without posture_velocity
         self._active = _ActiveSet.none(robot.dof)
         self._fused: FusedStep | None = None
         self._fused_active: _ActiveSet | None = None  # the set FusedStep holds
@@ -287,7 +302,13 @@ class DiffIKQP(Controller):
         objectives = [task_objective(J, v, W), self._damping]
         if self.posture_weight > 0.0:
             objectives.append(
-                posture_objective(state.q, reference.q, self.posture_weight, self.posture_gain)
+                posture_objective(
+                    state.q,
+                    reference.q,
+                    self.posture_weight,
+                    self.posture_gain,
+                    reference.qd if self.posture_velocity else None,
+                )
             )
         bounds = [
             self._velocity,
@@ -301,7 +322,11 @@ class DiffIKQP(Controller):
     # ------------------------------------------------------------------------------ solve
 
     def step(self, state: State, reference: Reference, dt: float) -> Command:
-        """Build and solve this step's QP; a safe fallback when it cannot be solved."""
+        """Build and solve this step's QP; a safe fallback when it cannot be solved.
+
+        The command carries ``reference.tau`` as its feed-forward torque when
+        ``feedforward``, except a fallback, which carries none.
+        """
         command = self._fused_step(state, reference, dt) if self._uses_fused else None
         evaluation = self.evaluation
         if command is None:
@@ -309,6 +334,8 @@ class DiffIKQP(Controller):
             evaluation = "pieces"
         self.diagnostics["evaluation"] = evaluation
         self._last = command.qd
+        if self.feedforward and not command.fallback and reference.tau is not None:
+            command = command._replace(tau=reference.tau)
         return command
 
     def _fused_step(self, state: State, reference: Reference, dt: float) -> Command | None:
@@ -325,6 +352,7 @@ class DiffIKQP(Controller):
             reference.T_world_tool,
             reference.twist,
             reference.q,
+            reference.qd if self.posture_velocity else self._rest,
             self.pid._integral,  # the PID's own state, advanced here by the same law
             self._last,
             dt,

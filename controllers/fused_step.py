@@ -8,8 +8,9 @@ expression of the measured state and the reference:
 1. the tool pose and world-aligned Jacobian (:class:`robots.SymbolicModel`);
 2. the Cartesian PID law of :class:`~controllers.cartesian_pid.CartesianPID` (pose error,
    clamped integral, derivative and feed-forward terms);
-3. the QP's numbers: ``H`` and ``c`` of the task, damping and posture objectives, and the
-   velocity, acceleration and position boxes intersected in that order;
+3. the QP's numbers: ``H`` and ``c`` of the task, damping and posture objectives (the
+   posture moving with the velocity given for it), and the velocity, acceleration and
+   position boxes intersected in that order;
 4. the QP's exact solution with the last step's active set held at its bounds, whether it
    meets the optimality conditions, and the set to try next (``_ActiveSet._on_bounds`` and
    ``_ActiveSet._next``).
@@ -103,10 +104,10 @@ class FusedStep:
     Two functions work on arrays bound to them once, with n = ``robot.dof``:
 
     * the step: input ``[q (n), qd (n), T_world_tool row by row (16), twist (6), q_ref (n),
-      integral (6), last command (n), dt]`` and the active set ``[held at upper (n), held at
-      lower (n)]`` (1.0 or 0.0); output ``[x (n), ok, fallback, integral (6), H column by
-      column (n*n), c (n), lower (n), upper (n), next held at upper (n), next held at
-      lower (n)]``;
+      qd_ref (n), integral (6), last command (n), dt]`` and the active set ``[held at
+      upper (n), held at lower (n)]`` (1.0 or 0.0); output ``[x (n), ok, fallback,
+      integral (6), H column by column (n*n), c (n), lower (n), upper (n), next held at
+      upper (n), next held at lower (n)]``;
     * the search (when ``settings.changes`` > 0): input the output from ``H`` on, output
       ``[x (n), ok, held at upper (n), held at lower (n)]`` after up to ``changes`` more
       rounds.
@@ -156,7 +157,7 @@ class FusedStep:
         finally:
             if directory is not None:
                 shutil.rmtree(directory, ignore_errors=True)
-        self.input = np.zeros(4 * n + 29)
+        self.input = np.zeros(5 * n + 29)
         self.active = np.zeros(2 * n)
         self.output = np.zeros(n * n + 6 * n + 8)
         if step.nnz_out(0) != self.output.size:
@@ -192,17 +193,31 @@ class FusedStep:
         T_world_tool: FloatArray,
         twist: FloatArray,
         q_ref: FloatArray,
+        qd_ref: FloatArray,
         integral: FloatArray,
         last: FloatArray,
         dt: float,
     ) -> tuple[bool, bool]:
         """Evaluate one step: ``(ok, fallback)``; the numbers are in the output views.
 
+        Args:
+            q: Measured joint positions [rad or m], shape (n,).
+            qd: Measured joint velocities [rad/s or m/s], shape (n,).
+            T_world_tool: Planned tool pose, shape (4, 4).
+            twist: Planned tool twist [m/s; rad/s], shape (6,).
+            q_ref: Posture the QP pulls towards (the planned joint positions), shape (n,).
+            qd_ref: Velocity of that posture [rad/s or m/s], shape (n,); zeros for the pull
+                towards a posture at rest.
+            integral: The PID's integral before the step [m s; rad s], shape (6,).
+            last: Last command [rad/s or m/s], shape (n,).
+            dt: Control period [s].
+
         ``ok``: ``x`` is the QP's solution (the active set held). ``fallback``: the numbers
         are not valid for this state; build the step from the pieces.
         """
         np.concatenate(
-            (q, qd, T_world_tool.ravel(), twist, q_ref, integral, last, (dt,)), out=self.input
+            (q, qd, T_world_tool.ravel(), twist, q_ref, qd_ref, integral, last, (dt,)),
+            out=self.input,
         )
         self._step()
         flags = self.output[self.n : self.n + 2].tolist()
@@ -236,12 +251,13 @@ def _step_function(robot: Robot, settings: StepSettings, options: dict[str, Any]
     """The step function of :class:`FusedStep` (layout in its docstring)."""
     n = robot.dof
     pid, limits = settings.pid, settings.limits
-    packed = ca.SX.sym("input", 4 * n + 29)
+    packed = ca.SX.sym("input", 5 * n + 29)
     active = ca.SX.sym("active", 2 * n)
     parts = ca.vertsplit(
-        packed, [0, n, 2 * n, 2 * n + 16, 2 * n + 22, 3 * n + 22, 3 * n + 28, 4 * n + 29]
+        packed,
+        [0, n, 2 * n, 2 * n + 16, 2 * n + 22, 3 * n + 22, 4 * n + 22, 4 * n + 28, 5 * n + 29],
     )
-    q, qd, T_rows, twist_ref, q_ref, integral, tail = parts
+    q, qd, T_rows, twist_ref, q_ref, qd_ref, integral, tail = parts
     last, dt = tail[:n], tail[n]
     T_ref = ca.reshape(T_rows, 4, 4).T  # the rows arrive one after the other
 
@@ -293,6 +309,7 @@ def _step_function(robot: Robot, settings: StepSettings, options: dict[str, Any]
     if settings.posture_weight > 0.0:
         H += settings.posture_weight * ca.SX.eye(n)
         c += (settings.posture_weight * settings.posture_gain) * (q - q_ref)
+        c -= settings.posture_weight * qd_ref
 
     # Boxes in priority order (qp_terms.velocity_bounds, acceleration_bounds, position_bounds).
     speed = ca.DM(settings.velocity_scale * limits.velocity)

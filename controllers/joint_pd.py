@@ -1,9 +1,11 @@
 r"""The joint-space baseline: PD on the joint error with the planned velocity fed forward.
 
-.. math:: \dot q_{cmd} = \dot q_{ref} + K_P (q_{ref} - q) + K_D (\dot q_{ref} - \dot q)
+.. math:: \dot q_{cmd} = \dot q_{ref} + K_P (q_{ref} - q) + K_D (\dot q_{ref} - \dot q),
+    \qquad \tau_{ff} = \tau_{ref}
 
-It tracks the plan's joints, not the tool: errors in the tool pose come only through the
-joints, with no Cartesian correction. No limit handling.
+with the plan's feed-forward torque :math:`\tau_{ref}` (its inverse dynamics without gravity)
+passed on to the plant. It tracks the plan's joints, not the tool: errors in the tool pose
+come only through the joints, with no Cartesian correction. No limit handling.
 """
 
 from __future__ import annotations
@@ -11,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from controllers.controller import Command, Controller, Reference, State, as_gains
+from controllers.controller import Command, Controller, Reference, State, as_flag, as_gains
 from robots import Robot
 
 __all__ = ["JointPD"]
@@ -26,15 +28,25 @@ class JointPD(Controller):
         robot: The robot.
         kp: Position gain [1/s], scalar or per joint (n,).
         kd: Velocity-error gain [-], scalar or per joint (n,).
+        feedforward: Whether the command carries the plan's feed-forward torque
+            (``reference.tau``); False: ``Command.tau`` is None.
 
     Raises:
-        InvalidInputError: A negative gain or one of the wrong size.
+        InvalidInputError: A negative gain or one of the wrong size, or a switch that is not
+            a bool.
     """
 
-    def __init__(self, robot: Robot, kp: ArrayLike = 20.0, kd: ArrayLike = 0.0) -> None:
+    def __init__(
+        self,
+        robot: Robot,
+        kp: ArrayLike = 20.0,
+        kd: ArrayLike = 0.0,
+        feedforward: bool = True,
+    ) -> None:
         self.robot = robot
         self.kp = as_gains(kp, "kp", robot.dof, unit="[1/s]")
         self.kd = as_gains(kd, "kd", robot.dof, unit="[-]")
+        self.feedforward = as_flag(feedforward, "feedforward")
 
     @property
     def name(self) -> str:
@@ -45,7 +57,8 @@ class JointPD(Controller):
         """Nothing to forget: the law has no memory."""
 
     def step(self, state: State, reference: Reference, dt: float) -> Command:
-        """``qd_ref + kp (q_ref - q) + kd (qd_ref - qd)``."""
+        """``qd_ref + kp (q_ref - q) + kd (qd_ref - qd)``, with ``reference.tau`` fed forward."""
         return Command(
-            reference.qd + self.kp * (reference.q - state.q) + self.kd * (reference.qd - state.qd)
+            reference.qd + self.kp * (reference.q - state.q) + self.kd * (reference.qd - state.qd),
+            tau=reference.tau if self.feedforward else None,
         )

@@ -2,19 +2,27 @@ r"""Simulated robots that a controller's joint-velocity command drives.
 
 A :class:`Plant` holds the true joint state of a simulated arm. ``reset(q)`` places it,
 ``step(command, dt)`` advances it by ``dt`` seconds under a joint velocity command held constant
-over the step (zero-order hold), optionally with a force pushing on the tool, and returns the
-new :class:`PlantState`.
+over the step (zero-order hold), optionally with a feed-forward joint torque added to the
+servo's and a force pushing on the tool, and returns the new :class:`PlantState`.
 
 * :class:`KinematicPlant`: every joint velocity follows its command as a first-order lag (an
-  ideal velocity servo with a time constant), integrated exactly. Torques are only reported,
-  as the inverse dynamics of the realised motion.
+  ideal velocity servo with a time constant), integrated exactly; a feed-forward torque
+  changes nothing (the ideal servo needs none). Torques are only reported, as the inverse
+  dynamics of the realised motion.
 * :class:`DynamicPlant`: rigid-body dynamics (Pinocchio's ABA) driven by a decentralised
-  velocity servo per joint with gravity compensation, the torques clipped to the effort limits.
+  velocity servo per joint with gravity compensation and the feed-forward torque,
+
+  .. math:: \tau = g(q) + \tau_{ff} + b \, \mathrm{diag}(M(q)) \, (u - \dot q),
+
+  clipped to the effort limits.
 
 >>> plant = KinematicPlant(robot)
 >>> state = plant.reset(robot.home)
->>> state = plant.step(command_qd, dt=1e-3)
+>>> state = plant.step(command_qd, dt=1e-3, torque=feedforward_tau)
 >>> state.q, state.qd, state.tau
+
+Plants that simulate more than the arm (a ball, contacts) hand it over in :meth:`Plant.record`,
+which :func:`~controllers.simulation.simulate` stores in ``Result.record`` after the run.
 
 Plants keep their own state and nothing global; they pickle with their robot, so one plant per
 simulation can be sent to a worker process.
@@ -24,7 +32,7 @@ from __future__ import annotations
 
 import math
 from abc import ABC, abstractmethod
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 import pinocchio as pin
@@ -126,7 +134,11 @@ class Plant(ABC):
 
     @abstractmethod
     def step(
-        self, command: ArrayLike, dt: float, tool_force: ArrayLike | None = None
+        self,
+        command: ArrayLike,
+        dt: float,
+        tool_force: ArrayLike | None = None,
+        torque: ArrayLike | None = None,
     ) -> PlantState:
         """Advance the simulation by ``dt`` under a constant joint velocity command.
 
@@ -135,6 +147,9 @@ class Plant(ABC):
             dt: Step length [s], > 0.
             tool_force: Force [N] in world axes applied at the tool frame origin during the
                 whole step, shape (3,); None for no force.
+            torque: Feed-forward joint torque [N m or N], shape (n,), held over the step and
+                added to the servo's torque (on top of its gravity compensation); None for
+                none.
 
         Returns:
             The state at the end of the step.
@@ -143,25 +158,33 @@ class Plant(ABC):
             InvalidInputError: Bad input, ``step`` before ``reset``, or a diverged simulation.
         """
 
+    def record(self) -> dict[str, Any]:
+        """What the plant simulates beyond the joint state, for ``Result.record``.
+
+        :func:`~controllers.simulation.simulate` calls it once at the end of a run. A plant
+        that simulates more than the arm (a ball it hits, contacts) returns it here by name;
+        the base plants have nothing more and return an empty dict.
+        """
+        return {}
+
     def _begin_step(
-        self, command: ArrayLike, dt: float, tool_force: ArrayLike | None
-    ) -> tuple[PlantState, FloatArray, float, FloatArray | None]:
-        """Check a step's inputs cheaply; return the state, command, dt and force."""
+        self,
+        command: ArrayLike,
+        dt: float,
+        tool_force: ArrayLike | None,
+        torque: ArrayLike | None = None,
+    ) -> tuple[PlantState, FloatArray, float, FloatArray | None, FloatArray | None]:
+        """Check a step's inputs cheaply; return the state, command, dt, force and torque."""
         state = self.state
         n = self.robot.dof
-        if not (
-            isinstance(command, np.ndarray)
-            and command.dtype == np.float64
-            and command.shape == (n,)
-            and np.isfinite(command).all()
-        ):
-            command = as_vector(command, "command", n)
+        command = _checked_vector(command, "command", n)
         if not (
             type(dt) is float and math.isfinite(dt) and dt > 0.0  # fast path for plain floats
         ):
             dt = as_positive(dt, "dt", "s")
         force = None if tool_force is None else as_array(tool_force, "tool_force", (3,))
-        return state, command, dt, force
+        feedforward = None if torque is None else _checked_vector(torque, "torque", n)
+        return state, command, dt, force, feedforward
 
 
 class KinematicPlant(Plant):
@@ -178,7 +201,9 @@ class KinematicPlant(Plant):
     so the result does not depend on how a motion is cut into steps. A tool force :math:`F`
     acts as the impulse :math:`F \Delta t` at the start of the step
     (:func:`tool_force_to_joint_velocity`); the servo then pulls the velocity back to the
-    command. Torques are reported as the inverse dynamics of the realised motion.
+    command. A feed-forward ``torque`` is checked and otherwise ignored: the ideal servo
+    realises the commanded velocity whatever the torque it takes. Torques are reported as the
+    inverse dynamics of the realised motion.
 
     Attributes:
         robot: The simulated robot.
@@ -214,10 +239,17 @@ class KinematicPlant(Plant):
         return "kinematic"
 
     def step(
-        self, command: ArrayLike, dt: float, tool_force: ArrayLike | None = None
+        self,
+        command: ArrayLike,
+        dt: float,
+        tool_force: ArrayLike | None = None,
+        torque: ArrayLike | None = None,
     ) -> PlantState:
-        """Advance by ``dt`` [s] under the joint velocity ``command``; see :meth:`Plant.step`."""
-        state, u, dt, force = self._begin_step(command, dt, tool_force)
+        """Advance by ``dt`` [s] under the joint velocity ``command``; see :meth:`Plant.step`.
+
+        ``torque`` is validated but does not change the motion (an ideal velocity servo).
+        """
+        state, u, dt, force, _ = self._begin_step(command, dt, tool_force, torque)
         model, data = self.robot.model, self.robot.data
         qd0 = state.qd
         if force is not None:
@@ -248,15 +280,18 @@ class KinematicPlant(Plant):
 class DynamicPlant(Plant):
     r"""Rigid-body dynamics driven by a decentralised velocity servo per joint.
 
-    Each joint's actuator applies, with gravity compensation,
+    Each joint's actuator applies, with gravity compensation and the feed-forward torque
+    :math:`\tau_{ff}` of the step (zero when none is given),
 
-    .. math:: \tau = g(q) + b \, \mathrm{diag}(M(q)) \, (u - \dot q),
+    .. math:: \tau = g(q) + \tau_{ff} + b \, \mathrm{diag}(M(q)) \, (u - \dot q),
 
     clipped to the effort limits when ``saturate``; the arm then moves by Pinocchio's ABA,
     :math:`\ddot q = M^{-1}(\tau + J_{lin}^T F - C \dot q - g)`, integrated with equal
     substeps of semi-implicit Euler (:math:`\dot q \mathrel{+}= \ddot q h`, then
     :math:`q \mathrel{+}= \dot q h`). Coriolis forces and the inertia coupling between joints
-    are not compensated: they disturb each servo as they would on a real arm.
+    are not compensated by the servo: they disturb it as they would on a real arm, unless the
+    feed-forward carries them (a plan's :math:`M \ddot q + C \dot q`, its inverse dynamics
+    without gravity, makes a servo commanded with the plan's velocity follow it closely).
 
     On a single joint the loop is a first-order lag with time constant :math:`1/b`; on the arm
     the coupled modes settle with rates :math:`b \lambda_i`, with :math:`\lambda_i` the
@@ -310,10 +345,17 @@ class DynamicPlant(Plant):
         return "dynamic"
 
     def step(
-        self, command: ArrayLike, dt: float, tool_force: ArrayLike | None = None
+        self,
+        command: ArrayLike,
+        dt: float,
+        tool_force: ArrayLike | None = None,
+        torque: ArrayLike | None = None,
     ) -> PlantState:
-        """Advance by ``dt`` [s] under the joint velocity ``command``; see :meth:`Plant.step`."""
-        state, u, dt, force = self._begin_step(command, dt, tool_force)
+        """Advance by ``dt`` [s] under the joint velocity ``command``; see :meth:`Plant.step`.
+
+        ``torque`` is added to the servo torque before it is clipped to the effort limits.
+        """
+        state, u, dt, force, feedforward = self._begin_step(command, dt, tool_force, torque)
         ratio = dt / self.max_substep
         if ratio > _MAX_SUBSTEPS:
             raise InvalidInputError(
@@ -336,6 +378,8 @@ class DynamicPlant(Plant):
             tau = pin.computeGeneralizedGravity(model, data, q) + gain * np.diag(
                 pin.crba(model, data, q)
             ) * (u - qd)
+            if feedforward is not None:
+                tau += feedforward
             if self.saturate:
                 clipped = np.clip(tau, -effort, effort)
                 saturated = saturated or bool((clipped != tau).any())
@@ -396,6 +440,18 @@ def _impulse_response(
     inertia = np.triu(upper) + np.triu(upper, 1).T  # some Pinocchio versions fill only triu
     jac = pin.computeFrameJacobian(model, data, q, frame_id, _WORLD_ALIGNED)
     return np.linalg.solve(inertia, jac[:3].T @ impulse)
+
+
+def _checked_vector(value: ArrayLike, name: str, n: int) -> FloatArray:
+    """``value`` as a finite float64 vector of shape (n,); a fast path for one already."""
+    if (
+        isinstance(value, np.ndarray)
+        and value.dtype == np.float64
+        and value.shape == (n,)
+        and np.isfinite(value).all()
+    ):
+        return value
+    return as_vector(value, name, n)
 
 
 def _frozen_state(

@@ -4,9 +4,11 @@ r"""The seed's tracking controller: Cartesian PID through the Jacobian pseudo-in
           J^{+} = J^T (J J^T + \lambda^2 I)^{-1}
 
 with :math:`v_{cmd}` from :class:`~controllers.cartesian_pid.CartesianPID` and
-:math:`\lambda = 0` the plain Moore-Penrose pseudo-inverse. It knows no joint limits, as in the
-seed: near a singularity or with a plan that already runs at a limit it commands whatever the
-inverse gives. :class:`~controllers.diff_ik_qp.DiffIKQP` is its limit-aware replacement.
+:math:`\lambda = 0` the plain Moore-Penrose pseudo-inverse. The command carries the plan's
+feed-forward torque (its inverse dynamics without gravity) for the plant's servo. It knows
+no joint limits, as in the seed: near a singularity or with a plan that already runs at a
+limit it commands whatever the inverse gives. :class:`~controllers.diff_ik_qp.DiffIKQP` is its
+limit-aware replacement.
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from controllers.cartesian_pid import CartesianPID, tool_kinematics
-from controllers.controller import Command, Controller, Reference, State, cross3
+from controllers.controller import Command, Controller, Reference, State, as_flag, cross3
 from optraj.errors import InvalidInputError
 from optraj.validation import as_array
 from robots import Robot
@@ -40,9 +42,11 @@ class PseudoInversePID(Controller):
             pseudo-inverse of the seed.
         task: ``"pose"`` (6-D) or ``"axis"`` (5-D: roll about the tool z axis is free; the
             Jacobian's angular rows are projected on the plane normal to the axis).
+        feedforward: Whether the command carries the plan's feed-forward torque
+            (``reference.tau``); False: ``Command.tau`` is None.
 
     Raises:
-        InvalidInputError: A negative gain or damping.
+        InvalidInputError: A negative gain or damping, or a switch that is not a bool.
         UnknownNameError: An unknown task.
     """
 
@@ -55,12 +59,14 @@ class PseudoInversePID(Controller):
         integral_limit: ArrayLike = (0.01, 0.05),
         damping: float = 0.0,
         task: Literal["pose", "axis"] = "pose",
+        feedforward: bool = True,
     ) -> None:
         self.robot = robot
         self.pid = CartesianPID(kp, ki, kd, integral_limit, task)
         self.damping = float(as_array(damping, "damping", ()))
         if self.damping < 0.0:
             raise InvalidInputError(f"damping must be >= 0, got {self.damping:.6g}", name="damping")
+        self.feedforward = as_flag(feedforward, "feedforward")
 
     @property
     def name(self) -> str:
@@ -72,7 +78,7 @@ class PseudoInversePID(Controller):
         self.pid.reset()
 
     def step(self, state: State, reference: Reference, dt: float) -> Command:
-        """``qd = J^+ v_cmd``; see the module docstring."""
+        """``qd = J^+ v_cmd``, with ``reference.tau`` fed forward; see the module docstring."""
         T, J = tool_kinematics(self.robot, state.q)
         v = self.pid.twist(T, J, state.qd, reference, dt)
         if self.pid.task == "axis":
@@ -84,7 +90,7 @@ class PseudoInversePID(Controller):
         else:
             rows = J.shape[0]
             qd = J.T @ np.linalg.solve(J @ J.T + self.damping**2 * np.eye(rows), v)
-        return Command(qd)
+        return Command(qd, tau=reference.tau if self.feedforward else None)
 
 
 def _normal_basis(axis: FloatArray) -> FloatArray:

@@ -9,7 +9,7 @@ the bounds in priority order and stacks the rows into one :class:`QP`.
 .. math::
 
     \min_{\dot q} \; \tfrac12 \| J \dot q - v \|_W^2 + \tfrac{\lambda}{2} \|\dot q\|^2
-    + \tfrac{w}{2} \| \dot q - k (q_{ref} - q) \|^2
+    + \tfrac{w}{2} \| \dot q - (\dot q_{ref} + k (q_{ref} - q)) \|^2
 
 The pieces take plain arrays (no robot, no state), so that each is tested on its own.
 """
@@ -143,20 +143,33 @@ def damping_objective(n: int, damping: float) -> Objective:
 
 
 def posture_objective(
-    q: FloatArray, q_posture: FloatArray, weight: float, gain: float
+    q: FloatArray,
+    q_posture: FloatArray,
+    weight: float,
+    gain: float,
+    qd_posture: FloatArray | None = None,
 ) -> Objective:
-    r"""Pull towards a posture: :math:`\tfrac{w}{2}\|\dot q - k (q_p - q)\|^2`.
+    r"""Pull towards a moving posture: :math:`\tfrac{w}{2}\|\dot q - (\dot q_p + k (q_p - q))\|^2`.
 
     On a redundant arm this sets the self-motion the task leaves free; keep ``weight`` small
-    against the task so that it does not bend the tool path.
+    against the task so that it does not bend the tool path. With the planned joint velocity
+    as ``qd_posture`` the self-motion follows the plan's instead of only being pulled back to
+    its positions (constant dropped):
+
+    .. math:: H = w I, \qquad c = w k (q - q_p) - w \dot q_p.
 
     Args:
         q: Joint positions now [rad or m], shape (n,).
         q_posture: Posture to move towards, e.g. the planned joint positions, shape (n,).
         weight: Weight ``w`` relative to the task [-].
         gain: Rate ``k`` at which the posture error is closed [1/s].
+        qd_posture: Velocity of the posture [rad/s or m/s], e.g. the planned joint
+            velocities, shape (n,); None for a posture at rest.
     """
-    return Objective(weight * identity(q.size), (weight * gain) * (q - q_posture))
+    c = (weight * gain) * (q - q_posture)
+    if qd_posture is not None:
+        c -= weight * qd_posture
+    return Objective(weight * identity(q.size), c)
 
 
 # ---------------------------------------------------------------------------------- bounds

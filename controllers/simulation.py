@@ -5,8 +5,10 @@
 >>> planners.check(result.command_trajectory(), robot, quantities=["velocity"])
 
 Each step: the plant's state is measured (plus seeded Gaussian noise), the controller turns it
-and the plan into a joint velocity command, the command waits ``latency`` steps, and the plant
-integrates it for ``dt`` (with a force at the tool while a disturbance lasts). The plant is
+and the plan into a command (a joint velocity and, optionally, a feed-forward joint torque),
+the command waits ``latency`` steps, and the plant integrates it for ``dt`` (with a force at
+the tool while a disturbance lasts). A plant that simulates more than the arm hands it over at
+the end through :meth:`~controllers.plants.Plant.record`, kept in ``Result.record``. The plant is
 pluggable: ``"dynamic"`` (rigid-body dynamics under a velocity servo, torques saturated),
 ``"kinematic"`` (a first-order actuator lag), or any :class:`~controllers.plants.Plant`.
 """
@@ -17,8 +19,9 @@ import math
 import sys
 import time
 from collections import deque
-from dataclasses import dataclass, replace
-from typing import TextIO
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+from typing import Any, TextIO
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -121,6 +124,9 @@ class Result:
         fallbacks: ``(time, reason)`` of every step that sent a fallback command.
         references: The plan at every sample time.
         metrics: The tracking metrics.
+        record: What the plant simulated beyond the arm (:meth:`Plant.record
+            <controllers.plants.Plant.record>` at the end of the run); empty for the
+            kinematic and dynamic plants.
     """
 
     robot: str
@@ -141,6 +147,7 @@ class Result:
     fallbacks: tuple[tuple[float, str], ...]
     references: References
     metrics: Metrics
+    record: Mapping[str, Any] = field(default_factory=dict)
 
     def __repr__(self) -> str:
         m = self.metrics
@@ -195,13 +202,19 @@ def _plant(robot: Robot, plant: str | Plant) -> Plant:
 
 
 def _held_at_rest(references: References, t: FloatArray, end: float) -> References:
-    """After the plan ends, the reference is its final pose at rest (for ``settle``)."""
+    """After the plan ends, the reference is its final pose at rest (for ``settle``).
+
+    At rest the feed-forward torque (the inverse dynamics without gravity) is zero too.
+    """
     after = t > end + 1e-12
     if not after.any():
         return references
     moving = {}
-    for name in ("qd", "qdd", "twist"):
-        values = getattr(references, name).copy()
+    for name in ("qd", "qdd", "twist", "tau"):
+        values = getattr(references, name)
+        if values is None:
+            continue
+        values = values.copy()
         values[after] = 0.0
         moving[name] = values
     return replace(references, t=t.copy(), **moving)
@@ -269,7 +282,8 @@ def simulate(
         InvalidInputError: Bad dt, latency, settle, start or progress, a plan that is not a
             Trajectory, or a plan or controller for another robot.
         UnknownNameError: An unknown plant name.
-        SolverError: The controller returned a command that is not a finite (n,) vector.
+        SolverError: The controller returned a joint velocity or feed-forward torque that is
+            not a finite (n,) vector.
     """
     step = as_positive(dt, "dt", "s")
     delay = as_count(latency, "latency")
@@ -319,7 +333,8 @@ def simulate(
     step_time = np.empty(count)
     fallbacks: list[tuple[float, str]] = []
     saturated = 0
-    queue: deque[FloatArray] = deque([state.qd.copy()] * delay)
+    # Until the first command arrives, the plant holds its start velocity without feed-forward.
+    queue: deque[tuple[FloatArray, FloatArray | None]] = deque([(state.qd.copy(), None)] * delay)
     show = progress if progress is not None else count > PROGRESS_STEPS and sys.stderr.isatty()
     bar = _Progress(count, f"simulate {controller.name}", sys.stderr) if show else None
 
@@ -342,12 +357,22 @@ def simulate(
                 detail=f"at t = {t[k]:.4g} s it returned {qd_command!r}; expected {n} finite "
                 "joint velocities",
             )
+        tau_command = None if out.tau is None else np.asarray(out.tau, dtype=float)
+        if tau_command is not None and (
+            tau_command.shape != (n,) or not np.all(np.isfinite(tau_command))
+        ):
+            raise SolverError(
+                controller.name,
+                "bad command",
+                detail=f"at t = {t[k]:.4g} s it returned the feed-forward torque "
+                f"{tau_command!r}; expected {n} finite joint torques or None",
+            )
         if out.status != "ok":
             fallbacks.append((float(t[k]), out.status))
-        queue.append(qd_command)
-        sent = queue.popleft()
+        queue.append((qd_command, tau_command))
+        sent, sent_tau = queue.popleft()
         force = disturbance.force_during(t[k], t[k + 1]) if disturbance is not None else None
-        state = model.step(sent, step, force)
+        state = model.step(sent, step, force, torque=sent_tau)
         measured_q[k], measured_qd[k] = mq, mqd
         command[k], applied[k], tau[k] = qd_command, sent, state.tau
         saturated += bool(state.saturated)
@@ -388,4 +413,5 @@ def simulate(
         fallbacks=tuple(fallbacks),
         references=references,
         metrics=metrics,
+        record=model.record(),
     )

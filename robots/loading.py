@@ -20,7 +20,7 @@ import numpy as np
 import pinocchio as pin
 
 from optraj.errors import InvalidInputError, MissingDependencyError, UnknownNameError
-from optraj.validation import as_positive
+from optraj.validation import as_array, as_positive
 from robots.limits import JointLimits
 from robots.robot import Robot
 
@@ -36,8 +36,15 @@ SAWYER_NEUTRAL = (0.0, -1.18, 0.0, 2.18, 0.0, 0.57, 3.3161)
 #: Default cue length from the flange (right_hand) to the cue tip, along right_hand z [m].
 #: Our choice: the part of a cue that sticks out of a wrist-mounted holder.
 SAWYER_CUE_LENGTH = 0.30
+#: Mass of that cue section [kg], carried as a uniform rod of the cue's length. Our choice:
+#: about the front fifth of a 0.54 kg, 1.47 m cue (a cue weighs 18 to 21 oz, 0.51 to 0.6 kg).
+SAWYER_CUE_MASS = 0.1
+#: Cue shaft radius [m] (a 13 mm tip; only the rod's axial inertia depends on it).
+SAWYER_CUE_RADIUS = 0.0065
 #: Longest cue accepted [m] (a full pool cue is about 1.47 m long).
 SAWYER_MAX_CUE_LENGTH = 1.5
+#: Heaviest cue accepted [kg] (a whole cue is about 0.6 kg).
+SAWYER_MAX_CUE_MASS = 1.0
 
 #: youBot planning ranges: youbot_driver encoder limits, tighter than the URDF's [rad].
 YOUBOT_LOWER = (0.0100692, 0.0100692, -5.02655, 0.0221239, 0.110619)
@@ -139,12 +146,14 @@ def _paddle4() -> Robot:
     )
 
 
-def _sawyer(cue_length: float = SAWYER_CUE_LENGTH) -> Robot:
+def _sawyer(cue_length: float = SAWYER_CUE_LENGTH, cue_mass: float = SAWYER_CUE_MASS) -> Robot:
     """Sawyer holding a pool cue.
 
     Args:
         cue_length: Distance from the flange (right_hand) to the cue tip along right_hand's
             z axis [m], in (0, 1.5].
+        cue_mass: Mass of that cue section [kg], >= 0, a uniform rod from the flange to the
+            tip; it is part of the model's dynamics (torques, the plan's feed-forward).
     """
     length = as_positive(cue_length, "cue_length", "m")
     if length > SAWYER_MAX_CUE_LENGTH:
@@ -153,15 +162,30 @@ def _sawyer(cue_length: float = SAWYER_CUE_LENGTH) -> Robot:
             name="cue_length",
             value=cue_length,
         )
+    mass = float(as_array(cue_mass, "cue_mass", ()))
+    if mass < 0.0 or mass > SAWYER_MAX_CUE_MASS:
+        raise InvalidInputError(
+            f"cue_mass must lie in [0, {SAWYER_MAX_CUE_MASS}] kg, got {mass:.6g} kg",
+            name="cue_mass",
+            value=cue_mass,
+        )
     model = _urdf_model("sawyer")
     _add_tool_frame(model, "cue_tip", "right_hand", pin.SE3(np.eye(3), np.array([0, 0, length])))
+    if mass > 0.0:
+        hand = model.frames[model.getFrameId("right_hand")]
+        rod = pin.Inertia.FromCylinder(mass, SAWYER_CUE_RADIUS, length)  # axis z, about centre
+        centre = pin.SE3(np.eye(3), np.array([0.0, 0.0, length / 2]))
+        model.appendBodyToJoint(hand.parentJoint, rod, hand.placement * centre)
     return Robot(
         "sawyer",
         model,
         _limits(model, SAWYER_ACCELERATION),
         tool_frame="cue_tip",
         poses={"home": SAWYER_NEUTRAL, "neutral": SAWYER_NEUTRAL},
-        description=f"Rethink Sawyer, 7-DOF; tool: pool-cue tip {length:.3g} m past the flange",
+        description=(
+            f"Rethink Sawyer, 7-DOF; tool: pool-cue tip {length:.3g} m past the flange, "
+            f"cue {mass:.3g} kg"
+        ),
     )
 
 

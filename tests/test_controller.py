@@ -1,6 +1,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pinocchio as pin
 import pytest
 from conftest import get_robot
 from scipy.spatial.transform import Rotation
@@ -11,6 +12,7 @@ from controllers.controller import (
     Reference,
     References,
     State,
+    as_flag,
     as_gains,
     cross3,
     rotation_error,
@@ -53,6 +55,50 @@ def test_sample_references_matches_robot_kinematics(name, step):
             refs.twist[k], robot.jacobian(sample.q[k]) @ sample.qd[k], rtol=0, atol=1e-12
         )
     assert refs.phase == ("",) * t.size
+
+
+@pytest.mark.parametrize(("name", "step"), [("sawyer", SAWYER_STEP), ("paddle4", PADDLE_STEP)])
+def test_feed_forward_torque_is_the_inverse_dynamics_without_gravity(name, step):
+    # Independent reference: M(q) qdd + C(q, qd) qd from Pinocchio's CRBA and Coriolis
+    # matrix (not RNEA), at seeded random times of the plan.
+    robot = get_robot(name)
+    traj = _smooth_trajectory(robot, 2.0 * step)
+    rng = np.random.default_rng(27)
+    t = np.sort(rng.uniform(0.0, traj.duration, 40))
+    refs = sample_references(robot, traj, t)
+    data = robot.model.createData()
+    expected = np.empty((t.size, robot.dof))
+    for k in range(t.size):
+        q, qd, qdd = refs.q[k], refs.qd[k], refs.qdd[k]
+        upper = pin.crba(robot.model, data, q)
+        M = np.triu(upper) + np.triu(upper, 1).T
+        C = pin.computeCoriolisMatrix(robot.model, data, q, qd)
+        expected[k] = M @ qdd + C @ qd
+    assert refs.tau.shape == (t.size, robot.dof)
+    scale = np.abs(expected).max()
+    assert scale > 0.1  # the plan moves the arm: the check is not vacuous
+    np.testing.assert_allclose(refs.tau, expected, rtol=0, atol=1e-10 * scale)
+    # And it is the robot's inverse dynamics less its gravity torque.
+    np.testing.assert_allclose(
+        refs.tau,
+        robot.inverse_dynamics(refs.q, refs.qd, refs.qdd) - robot.gravity_torque(refs.q),
+        rtol=0,
+        atol=1e-12 * scale,
+    )
+
+
+def test_feed_forward_torque_is_zero_at_rest_and_optional():
+    robot = get_robot("sawyer")
+    q = np.stack([robot.home, robot.home])
+    still = Trajectory.from_hermite([0.0, 1.0], q, np.zeros_like(q), np.zeros_like(q))
+    refs = sample_references(robot, still, [0.0, 0.5, 1.0])
+    np.testing.assert_allclose(refs.tau, 0.0, rtol=0, atol=1e-12)
+    assert np.abs(robot.gravity_torque(robot.home)).max() > 1.0  # gravity is taken out
+    without = References(
+        refs.t, refs.q, refs.qd, refs.qdd, refs.T_world_tool, refs.twist, refs.phase
+    )
+    assert without.tau is None
+    assert without[1].tau is None
 
 
 @pytest.mark.parametrize(("name", "step"), [("sawyer", SAWYER_STEP), ("paddle4", PADDLE_STEP)])
@@ -105,6 +151,7 @@ def test_references_getitem_and_len():
         np.testing.assert_array_equal(ref.qdd, refs.qdd[k])
         np.testing.assert_array_equal(ref.T_world_tool, refs.T_world_tool[k])
         np.testing.assert_array_equal(ref.twist, refs.twist[k])
+        np.testing.assert_array_equal(ref.tau, refs.tau[k])
         assert ref.phase == refs.phase[k]
     assert refs[4].phase == "strike"
     assert refs[0].phase == ""
@@ -117,9 +164,17 @@ def test_command_fallback_and_defaults():
     command = Command(qd)
     assert command.status == "ok"
     assert command.fallback is False
+    assert command.tau is None
     held = Command(np.zeros(2), "fallback: solver failed")
     assert held.fallback is True
+    assert held.tau is None
+    pushed = Command(qd, "ok", np.array([1.5, -2.0]))
+    assert pushed.qd is qd and pushed.status == "ok"
+    np.testing.assert_array_equal(pushed.tau, [1.5, -2.0])
+    assert Command._fields == ("qd", "status", "tau")
     assert Reference(0.0, qd, qd, qd, np.eye(4), np.zeros(6)).phase == ""
+    assert Reference(0.0, qd, qd, qd, np.eye(4), np.zeros(6), "strike").tau is None
+    assert Reference._fields[-2:] == ("phase", "tau")
     state = State(0.5, qd, qd)
     assert state.t == 0.5
 
@@ -248,6 +303,14 @@ def test_as_gains_shapes(value, expected):
     assert gains.shape == (6,)
     assert gains.dtype == np.float64
     np.testing.assert_allclose(gains, expected, rtol=0, atol=0)
+
+
+def test_as_flag_takes_bools_only():
+    assert as_flag(True, "feedforward") is True
+    assert as_flag(np.bool_(False), "feedforward") is False
+    for bad in (1, 0, "yes", None, 1.0):
+        with pytest.raises(InvalidInputError, match=r"feedforward must be True or False"):
+            as_flag(bad, "feedforward")
 
 
 def test_as_gains_errors():

@@ -44,8 +44,11 @@ def _stacked_least_squares(robot, controller, q, reference):
     rows = [root.T @ J, np.sqrt(controller.damping) * np.eye(robot.dof)]
     rhs = [root.T @ v, np.zeros(robot.dof)]
     if controller.posture_weight > 0:
+        target = controller.posture_gain * (reference.q - q)
+        if controller.posture_velocity:
+            target = target + reference.qd
         rows.append(np.sqrt(controller.posture_weight) * np.eye(robot.dof))
-        rhs.append(np.sqrt(controller.posture_weight) * controller.posture_gain * (reference.q - q))
+        rhs.append(np.sqrt(controller.posture_weight) * target)
     return np.vstack(rows), np.concatenate(rhs)
 
 
@@ -54,14 +57,15 @@ def _sqrt_psd(W):
     return vectors @ np.diag(np.sqrt(np.clip(values, 0.0, None))) @ vectors.T
 
 
+@pytest.mark.parametrize("posture_velocity", [True, False])
 @pytest.mark.parametrize(
     ("name", "task"), [("sawyer", "pose"), ("sawyer", "axis"), ("paddle4", "pose")]
 )
-def test_unconstrained_solution_equals_least_squares(name, task):
+def test_unconstrained_solution_equals_least_squares(name, task, posture_velocity):
     robot = get_robot(name)
     rng = np.random.default_rng(11)
     for _ in range(20):
-        controller = DiffIKQP(robot, ki=0.0, task=task)
+        controller = DiffIKQP(robot, ki=0.0, task=task, posture_velocity=posture_velocity)
         q, reference = _random_case(robot, rng)
         A, b = _stacked_least_squares(robot, controller, q, reference)
         expected = np.linalg.lstsq(A, b, rcond=None)[0]
@@ -266,11 +270,52 @@ def test_failure_falls_back_to_braking_within_limits(monkeypatch):
         return False, "maximum iterations reached", 7, np.full(qp.c.size, np.nan), np.zeros(1)
 
     monkeypatch.setattr(diff_ik_qp._Workspace, "solve", fail)
-    command = controller.step(state, _reference(robot, q, np.zeros(robot.dof)), DT)
+    reference = _reference(robot, q, np.zeros(robot.dof))._replace(tau=np.ones(robot.dof))
+    command = controller.step(state, reference, DT)
     assert command.fallback
+    assert command.tau is None  # a safe fallback carries no feed-forward
     assert "maximum iterations reached" in command.status
     np.testing.assert_allclose(command.qd, last - limits.acceleration * DT)
     assert np.all(np.abs(command.qd) <= limits.velocity)
+
+
+def test_posture_velocity_shifts_the_posture_term_by_the_planned_velocity():
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(25)
+    moving = DiffIKQP(robot, evaluation="pieces")
+    resting = DiffIKQP(robot, evaluation="pieces", posture_velocity=False)
+    for _ in range(10):
+        q, reference = _random_case(robot, rng)
+        state = State(0.0, q, np.zeros(robot.dof))
+        for controller in (moving, resting):
+            controller.reset(state)
+        a, b = moving.build(state, reference, DT), resting.build(state, reference, DT)
+        np.testing.assert_array_equal(a.H, b.H)
+        np.testing.assert_allclose(
+            a.c - b.c, -moving.posture_weight * reference.qd, rtol=0, atol=1e-15
+        )
+        assert np.abs(reference.qd).max() > 0.1  # the shift is not vacuous
+
+
+@pytest.mark.parametrize("evaluation", ["fused", "pieces"])
+def test_the_command_carries_the_plans_feed_forward_torque(evaluation):
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(26)
+    q, reference = _random_case(robot, rng)
+    reference = reference._replace(tau=rng.normal(0.0, 5.0, robot.dof))
+    state = State(0.0, q, np.zeros(robot.dof))
+    commands = {}
+    for feedforward in (True, False):
+        controller = DiffIKQP(robot, evaluation=evaluation, feedforward=feedforward)
+        controller.reset(state)
+        commands[feedforward] = controller.step(state, reference, DT)
+    np.testing.assert_array_equal(commands[True].tau, reference.tau)
+    assert commands[False].tau is None
+    # The feed-forward does not change the velocity command.
+    np.testing.assert_array_equal(commands[True].qd, commands[False].qd)
+    plain = DiffIKQP(robot, evaluation=evaluation)
+    plain.reset(state)
+    assert plain.step(state, reference._replace(tau=None), DT).tau is None
 
 
 def test_public_wrapper_path_gives_the_same_commands():
@@ -326,6 +371,10 @@ def test_bad_settings_are_refused():
         DiffIKQP(robot, constraints=[(np.ones((1, 7)), 0.0, 1.0)])
     with pytest.raises(UnknownNameError, match="task"):
         DiffIKQP(robot, task="position")
+    with pytest.raises(InvalidInputError, match="posture_velocity must be True or False"):
+        DiffIKQP(robot, posture_velocity=1)  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match="feedforward must be True or False, got 'yes'"):
+        DiffIKQP(robot, feedforward="yes")  # type: ignore[arg-type]
 
 
 def test_a_step_cut_short_by_the_iteration_cap_is_still_used_when_it_checks_out():

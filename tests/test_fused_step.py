@@ -39,9 +39,10 @@ def _random_step(robot, rng, spread=0.01):
     q = middle + rng.uniform(-0.98, 0.98, robot.dof) * half  # some joints near a limit
     qd = rng.uniform(-0.5, 0.5, robot.dof) * limits.velocity
     q_ref = q + rng.normal(0.0, spread, robot.dof)
+    qd_ref = rng.uniform(-0.3, 0.3, robot.dof) * limits.velocity
     T = robot.tool_pose(q_ref)
-    twist = robot.jacobian(q_ref) @ rng.uniform(-0.3, 0.3, robot.dof)
-    reference = Reference(0.0, q_ref, qd, np.zeros(robot.dof), T, twist, "")
+    twist = robot.jacobian(q_ref) @ qd_ref
+    reference = Reference(0.0, q_ref, qd_ref, np.zeros(robot.dof), T, twist, "")
     last = qd + rng.normal(0.0, 1e-3, robot.dof) * limits.acceleration
     integral = rng.uniform(-0.5, 0.5, 6) * np.repeat([0.01, 0.05], 3)
     return State(0.0, q, qd), reference, last, integral
@@ -54,7 +55,9 @@ def _random_step(robot, rng, spread=0.01):
         ("sawyer", {"task": "axis"}),
         ("sawyer", {"kd": 0.2, "posture_weight": 0.0, "weights": (1.0, 0.3)}),
         ("sawyer", {"ki": 0.0, "active_set_changes": 2}),
+        ("sawyer", {"posture_velocity": False}),
         ("paddle4", {"velocity_scale": 0.7}),
+        ("paddle4", {"posture_velocity": False, "task": "axis"}),
     ],
 )
 def test_numbers_and_optimality_test_equal_the_pieces(name, settings):
@@ -79,7 +82,8 @@ def test_numbers_and_optimality_test_equal_the_pieces(name, settings):
         fused.set_active(upper, lower)
         ok, fallback = fused(
             state.q, state.qd, reference.T_world_tool, reference.twist, reference.q,
-            integral, last, DT,
+            reference.qd if controller.posture_velocity else np.zeros(robot.dof), integral,
+            last, DT,
         )  # fmt: skip
         assert fallback == bool(qp.relaxed)
         if fallback:
@@ -113,6 +117,39 @@ def test_numbers_and_optimality_test_equal_the_pieces(name, settings):
     assert searched > 10
 
 
+@pytest.mark.parametrize("name", ["sawyer", "paddle4"])
+def test_the_posture_velocity_input_enters_c_as_in_the_pieces(name):
+    # The same step with and without the planned joint velocity in the posture term: only c
+    # moves, by -w qd_ref, in the fused step as in the pieces.
+    robot = get_robot(name)
+    rng = np.random.default_rng(49)
+    controller = DiffIKQP(robot, evaluation="pieces")
+    fused = _fused(controller)
+    resting = DiffIKQP(robot, evaluation="pieces", posture_velocity=False)
+    none = np.zeros(robot.dof, dtype=bool)
+    for _ in range(50):
+        state, reference, last, integral = _random_step(robot, rng)
+        outputs = []
+        for qd_ref in (reference.qd, np.zeros(robot.dof)):
+            fused.set_active(none, none)
+            fused(
+                state.q, state.qd, reference.T_world_tool, reference.twist, reference.q,
+                qd_ref, integral, last, DT,
+            )  # fmt: skip
+            outputs.append((fused.H.copy(), fused.c.copy()))
+        (H_moving, c_moving), (H_resting, c_resting) = outputs
+        np.testing.assert_array_equal(H_moving, H_resting)
+        np.testing.assert_allclose(
+            c_moving - c_resting, -controller.posture_weight * reference.qd, rtol=0, atol=1e-12
+        )
+        for pieces, c in ((controller, c_moving), (resting, c_resting)):
+            pieces._last = last
+            pieces.pid._integral = integral.copy()
+            qp = pieces.build(state, reference, DT)
+            scale = max(1.0, float(np.abs(qp.H).max()))
+            np.testing.assert_allclose(c, qp.c, rtol=0, atol=1e-12 * scale)
+
+
 @pytest.mark.parametrize("side", ["upper", "lower"])
 def test_a_joint_beyond_its_position_limit_is_sent_back_as_by_the_pieces(side):
     robot = get_robot("sawyer")
@@ -134,8 +171,8 @@ def test_a_joint_beyond_its_position_limit_is_sent_back_as_by_the_pieces(side):
         qp = controller.build(state, reference, DT)
         fused.set_active(np.zeros(robot.dof, bool), np.zeros(robot.dof, bool))
         _, fallback = fused(
-            q, state.qd, reference.T_world_tool, reference.twist, reference.q, integral,
-            last, DT,
+            q, state.qd, reference.T_world_tool, reference.twist, reference.q, reference.qd,
+            integral, last, DT,
         )  # fmt: skip
         assert fallback == bool(qp.relaxed)
         if not fallback:
@@ -159,8 +196,9 @@ def test_a_rotation_error_near_half_a_turn_goes_to_the_pieces():
         turn[1:3, 1:3] = [[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]]
         T_ref = reference.T_world_tool @ (turn if angle < np.pi else flip)
         _, fallback = fused(
-            state.q, state.qd, T_ref, reference.twist, reference.q, integral, last, DT
-        )
+            state.q, state.qd, T_ref, reference.twist, reference.q, reference.qd, integral,
+            last, DT,
+        )  # fmt: skip
         assert fallback == expected, angle
 
 
@@ -239,7 +277,7 @@ def test_one_round_equals_the_numpy_round_with_pinned_joints():
 
 
 def _closed_loop(controller, trajectory, **options):
-    return simulate(controller.robot, trajectory, controller, plant="kinematic", **options)
+    return simulate(controller.robot, trajectory, controller, **({"plant": "kinematic"} | options))
 
 
 @pytest.fixture(scope="module")
@@ -250,12 +288,19 @@ def strikes():
     return shot.robot, {"nominal": nominal, "at the limits": planner.plan(shot)}
 
 
-@pytest.mark.parametrize("case", ["nominal", "at the limits", "noisy", "axis task"])
+@pytest.mark.parametrize(
+    "case", ["nominal", "at the limits", "noisy", "axis task", "posture at rest", "dynamic"]
+)
 def test_closed_loop_commands_equal_the_pieces(strikes, case):
     robot, planned = strikes
     trajectory = planned["nominal" if case != "at the limits" else "at the limits"]
-    options = {"noise": Noise(seed=7)} if case == "noisy" else {}
-    settings = {"task": "axis"} if case == "axis task" else {}
+    options: dict[str, object] = {"noise": Noise(seed=7)} if case == "noisy" else {}
+    if case == "dynamic":  # the feed-forward torque reaches the plant
+        options["plant"] = "dynamic"
+    settings = {
+        "axis task": {"task": "axis"},
+        "posture at rest": {"posture_velocity": False, "feedforward": False},
+    }.get(case, {})
     runs = {
         evaluation: _closed_loop(
             DiffIKQP(robot, evaluation=evaluation, **settings), trajectory, **options

@@ -61,6 +61,23 @@ def test_on_reference_command_is_feed_forward_and_memoryless():
     assert controller.name == "joint PD"
 
 
+def test_the_command_carries_the_plans_feed_forward_torque():
+    robot = get_robot("paddle4")
+    rng = np.random.default_rng(43)
+    q, q_ref = robot.random_configurations(2, rng)
+    qd, qd_ref, tau = rng.normal(size=(3, robot.dof))
+    state = State(0.0, q, qd)
+    reference = _reference(robot, q_ref, qd_ref)._replace(tau=tau)
+    with_torque = JointPD(robot, kd=0.5).step(state, reference, 1e-3)
+    without = JointPD(robot, kd=0.5, feedforward=False).step(state, reference, 1e-3)
+    np.testing.assert_array_equal(with_torque.tau, tau)
+    assert without.tau is None
+    np.testing.assert_array_equal(with_torque.qd, without.qd)
+    assert JointPD(robot).step(state, reference._replace(tau=None), 1e-3).tau is None
+    with pytest.raises(InvalidInputError, match=r"feedforward must be True or False"):
+        JointPD(robot, feedforward="no")  # type: ignore[arg-type]
+
+
 def test_gain_errors():
     robot = get_robot("sawyer")
     with pytest.raises(InvalidInputError, match=r"kp must be a scalar or one gain per joint \(7\)"):

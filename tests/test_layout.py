@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-ORDER = ["robots", "problems", "planners", "controllers"]
+ORDER = ["robots", "problems", "planners", "controllers", "physics"]
 BASE = {"optraj.errors", "optraj.validation"}
 OURS = {"optraj", *ORDER}
 

@@ -10,6 +10,7 @@ import pytest
 from conftest import get_robot
 from scipy.integrate import solve_ivp
 
+from controllers.controller import sample_references
 from controllers.plants import (
     DynamicPlant,
     KinematicPlant,
@@ -18,6 +19,7 @@ from controllers.plants import (
     tool_force_to_joint_velocity,
 )
 from optraj.errors import InvalidInputError, OptrajError
+from planners.trajectory import Trajectory
 
 ROBOTS = ("sawyer", "paddle4")  # paddle4's first joint is prismatic
 
@@ -146,6 +148,98 @@ def test_dynamic_initial_acceleration_is_the_servo_law(name):
     np.testing.assert_allclose(
         state.tau, robot.gravity_torque(robot.home) + bandwidth * np.diag(M) * u, rtol=1e-9
     )
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_dynamic_adds_the_feed_forward_torque_to_the_servo(name):
+    # From rest, the first substep's torque is g + tau_ff + b diag(M) u, its acceleration
+    # M^-1 (tau_ff + b diag(M) u).
+    robot = get_robot(name)
+    bandwidth, dt = 200.0, 1e-6
+    rng = np.random.default_rng(8)
+    torque = rng.normal(0.0, 1.0, robot.dof) * 0.1 * robot.limits.effort
+    u = alternating_command(robot, 0.3)
+    plant = DynamicPlant(robot, bandwidth=bandwidth, saturate=False)
+    plant.reset(robot.home)
+    state = plant.step(u, dt, torque=torque)
+    M = inertia_by_rnea(robot, robot.home)
+    servo = bandwidth * np.diag(M) * u
+    np.testing.assert_allclose(state.qdd, np.linalg.solve(M, torque + servo), rtol=1e-7, atol=1e-9)
+    np.testing.assert_allclose(
+        state.tau, robot.gravity_torque(robot.home) + torque + servo, rtol=1e-9, atol=1e-9
+    )
+    # No torque is a zero torque; a list or float32 torque is the same torque.
+    ends = []
+    for feedforward in (None, np.zeros(robot.dof), torque, list(torque), torque.astype(np.float32)):
+        plant.reset(robot.home)
+        ends.append(plant.step(u, 1e-3, torque=feedforward).q)
+    np.testing.assert_array_equal(ends[1], ends[0])
+    np.testing.assert_array_equal(ends[3], ends[2])
+    np.testing.assert_allclose(ends[4], ends[2], rtol=0, atol=1e-9)
+    assert np.abs(ends[2] - ends[0]).max() > 1e-6  # the torque moves the arm
+
+
+def test_feed_forward_of_the_inverse_dynamics_tracks_a_motion_closely():
+    # A smooth Sawyer motion (up to 54 % of the speed limits), commanded with its own joint
+    # velocity at the start of every 1 ms step: the servo alone lags it by 0.032 rad; with
+    # the motion's inverse dynamics less gravity fed forward the lag is 90 times smaller
+    # (measured 0.032 rad against 3.5e-4 rad).
+    robot = get_robot("sawyer")
+    step = 2.0 * np.array([0.25, -0.2, 0.3, 0.15, -0.3, 0.2, 0.4])
+    q = np.stack([robot.home, robot.home + step, robot.home + 0.5 * step])
+    qd = np.stack([np.zeros(robot.dof), 0.3 * step, np.zeros(robot.dof)])
+    motion = Trajectory.from_hermite([0.0, 1.0, 2.0], q, qd, np.zeros_like(q))
+    dt = 1e-3
+    t = np.arange(2001) * dt
+    sample = motion.sample(t)
+    torque = robot.inverse_dynamics(sample.q, sample.qd, sample.qdd) - robot.gravity_torque(
+        sample.q
+    )
+    np.testing.assert_allclose(sample_references(robot, motion, t).tau, torque, atol=1e-12)
+    errors = {}
+    for feedforward in (False, True):
+        plant = DynamicPlant(robot)
+        plant.reset(sample.q[0], sample.qd[0])
+        worst = 0.0
+        for k in range(t.size - 1):
+            state = plant.step(sample.qd[k], dt, torque=torque[k] if feedforward else None)
+            assert not state.saturated
+            worst = max(worst, float(np.abs(state.q - sample.q[k + 1]).max()))
+        errors[feedforward] = worst
+    assert errors[False] > 0.02  # the servo alone really lags
+    assert errors[True] < 1e-3
+    assert errors[False] / errors[True] > 20.0
+
+
+def test_dynamic_saturation_includes_the_feed_forward():
+    robot = get_robot("sawyer")
+    effort = robot.limits.effort
+    plant = DynamicPlant(robot)
+    plant.reset(robot.home)
+    state = plant.step(np.zeros(robot.dof), 1e-3, torque=3.0 * effort)
+    assert state.saturated is True
+    np.testing.assert_allclose(state.tau, effort, rtol=1e-12)  # every joint clipped above
+
+
+def test_kinematic_ignores_the_feed_forward_torque():
+    robot = get_robot("paddle4")
+    u = alternating_command(robot, 0.3)
+    force = np.array([2.0, -1.0, 3.0])
+    plain, pushed = KinematicPlant(robot), KinematicPlant(robot)
+    plain.reset(robot.home)
+    pushed.reset(robot.home)
+    torque = np.full(robot.dof, 50.0)
+    for _ in range(5):
+        a = plain.step(u, 1e-3, tool_force=force)
+        b = pushed.step(u, 1e-3, tool_force=force, torque=torque)
+        for x, y in zip(a, b, strict=True):
+            np.testing.assert_array_equal(x, y)
+
+
+def test_the_base_plants_record_nothing_more():
+    robot = get_robot("paddle4")
+    for plant in (KinematicPlant(robot), DynamicPlant(robot)):
+        assert plant.record() == {}
 
 
 def test_dynamic_integrates_by_semi_implicit_euler():
@@ -353,13 +447,18 @@ def test_step_or_state_before_reset_is_an_error(plant_type):
         ({"dt": float("inf")}, "dt"),
         ({"tool_force": [np.nan, 0.0, 0.0]}, "tool_force"),
         ({"tool_force": [1.0, 0.0]}, "tool_force"),
+        ({"torque": np.zeros(6)}, "torque"),
+        ({"torque": np.zeros((1, 7))}, "torque"),
+        ({"torque": [0.0] * 6 + [np.inf]}, "torque"),
+        ({"torque": ["a"] * 7}, "torque"),
+        ({"torque": np.zeros(7, dtype=np.float32) + np.nan}, "torque"),
     ],
 )
 def test_bad_step_input(plant_type, kwargs, match):
     robot = get_robot("sawyer")
     plant = plant_type(robot)
     plant.reset(robot.home)
-    args = {"command": np.zeros(7), "dt": 1e-3, "tool_force": None} | kwargs
+    args = {"command": np.zeros(7), "dt": 1e-3, "tool_force": None, "torque": None} | kwargs
     with pytest.raises(InvalidInputError, match=match):
         plant.step(**args)
     np.testing.assert_array_equal(plant.state.q, robot.home)  # a refused step changes nothing

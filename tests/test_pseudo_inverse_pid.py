@@ -197,3 +197,21 @@ def test_bad_arguments_raise():
         PseudoInversePID(robot, kp=-1.0)
     with pytest.raises(UnknownNameError, match=r"unknown task 'roll'"):
         PseudoInversePID(robot, task="roll")  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match=r"feedforward must be True or False, got 1"):
+        PseudoInversePID(robot, feedforward=1)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("task", ["pose", "axis"])
+def test_the_command_carries_the_plans_feed_forward_torque(task):
+    robot = get_robot("sawyer")
+    rng = np.random.default_rng(33)
+    q = _inner_configurations(robot, 1, rng)[0]
+    tau = rng.normal(0.0, 5.0, robot.dof)
+    reference = _reference(robot.tool_pose(q), rng.normal(size=6), robot.dof)._replace(tau=tau)
+    with_torque = PseudoInversePID(robot, task=task).step(_state(q), reference, DT)
+    without = PseudoInversePID(robot, task=task, feedforward=False).step(_state(q), reference, DT)
+    np.testing.assert_array_equal(with_torque.tau, tau)
+    assert without.tau is None
+    np.testing.assert_array_equal(with_torque.qd, without.qd)  # the velocity is the same
+    unknown = PseudoInversePID(robot, task=task).step(_state(q), reference._replace(tau=None), DT)
+    assert unknown.tau is None

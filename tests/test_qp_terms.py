@@ -66,6 +66,32 @@ def test_damping_and_posture_objectives():
     np.testing.assert_allclose(_value(posture, x), expected, rtol=1e-12)
 
 
+def test_posture_objective_with_a_posture_velocity_is_the_formula():
+    rng = np.random.default_rng(5)
+    for n in (4, 7):
+        q, q_posture, qd_posture = rng.normal(size=(3, n))
+        weight, gain = rng.uniform(1e-3, 1.0), rng.uniform(0.5, 20.0)
+        posture = posture_objective(q, q_posture, weight, gain, qd_posture)
+        # w/2 ||x - (qd_p + k (q_p - q))||^2, up to the constant w/2 ||target||^2.
+        target = qd_posture + gain * (q_posture - q)
+        for _ in range(5):
+            x = rng.normal(size=n)
+            expected = 0.5 * weight * np.sum((x - target) ** 2) - 0.5 * weight * target @ target
+            np.testing.assert_allclose(_value(posture, x), expected, rtol=1e-12, atol=1e-14)
+        # Its minimiser is the target velocity.
+        np.testing.assert_allclose(
+            np.linalg.solve(posture.H, -posture.c), target, rtol=1e-12, atol=1e-14
+        )
+        # None is a posture at rest, the same as a zero velocity.
+        at_rest = posture_objective(q, q_posture, weight, gain)
+        zero = posture_objective(q, q_posture, weight, gain, np.zeros(n))
+        np.testing.assert_array_equal(at_rest.c, zero.c)
+        np.testing.assert_array_equal(at_rest.H, posture.H)
+        np.testing.assert_allclose(
+            at_rest.c - posture.c, weight * qd_posture, rtol=1e-12, atol=1e-13
+        )
+
+
 def test_velocity_and_acceleration_bounds():
     box = velocity_bounds(np.array([1.0, 2.0]), scale=0.5)
     np.testing.assert_allclose(box.lower, [-0.5, -1.0])

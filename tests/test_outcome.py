@@ -1,0 +1,78 @@
+import dataclasses
+
+import numpy as np
+import pytest
+
+import controllers
+import physics
+import planners
+import problems
+from optraj.errors import InvalidInputError
+
+
+@pytest.fixture(scope="module")
+def shot():
+    return problems.sawyer_pool_shot(speed=1.0)
+
+
+@pytest.fixture(scope="module")
+def plan(shot):
+    room = dataclasses.replace(shot, limits=shot.robot.limits.scaled(0.8))
+    return planners.OptimalControl("time").plan(room)
+
+
+def _track(shot, plan, scene=None, **options):
+    robot = shot.robot
+    plant = physics.MujocoPlant(scene or physics.scene_for(shot))
+    result = controllers.simulate(robot, plan, controllers.DiffIKQP(robot), plant=plant, **options)
+    return physics.outcome(result, shot)
+
+
+def test_a_tracked_pool_shot_sends_the_ball_on_its_line(shot, plan):
+    outcome = _track(shot, plan)
+    assert outcome.hit and outcome.contacts == 1
+    assert outcome.within
+    assert abs(outcome.heading_error) < 0.1
+    assert 1.5 < outcome.effective_mass < 3.0  # Sawyer's cue tip, about 2 kg
+    # the ball rolls out along +x and stays on the table
+    assert outcome.rest_position[0] > shot.ball[0]
+    assert abs(outcome.rest_position[2] - shot.ball[2]) < 1e-3
+
+
+def test_outcomes_are_deterministic_for_a_seed(shot, plan):
+    a = _track(shot, plan, noise=controllers.Noise(seed=4))
+    b = _track(shot, plan, noise=controllers.Noise(seed=4))
+    assert a.heading_error == b.heading_error
+    np.testing.assert_array_equal(a.launch_velocity, b.launch_velocity)
+
+
+def test_a_ball_that_is_never_touched_is_a_miss(shot, plan):
+    elsewhere = physics.scene_for(shot).with_ball(np.asarray(shot.ball) + (0.0, 0.2, 0.0))
+    outcome = _track(shot, plan, scene=elsewhere)
+    assert not outcome.hit and not outcome.within
+    assert outcome.heading_error == np.inf
+    assert "missed" in outcome.summary()
+
+
+def test_outcome_needs_a_mujoco_record(shot, plan):
+    result = controllers.simulate(shot.robot, plan, controllers.DiffIKQP(shot.robot))
+    with pytest.raises(InvalidInputError, match="MujocoPlant"):
+        physics.outcome(result, shot)
+
+
+def test_a_paddle_strike_leaves_along_the_paddle_normal():
+    paddle = problems.PaddleStrike(
+        problems.seed_paddle_strike().robot, ball=(0.8, 0.2, 0.3), speed=0.5
+    )
+    plan = planners.OptimalControl("time").plan(
+        dataclasses.replace(paddle, limits=paddle.robot.limits.scaled(0.8))
+    )
+    result = controllers.simulate(
+        paddle.robot,
+        plan,
+        controllers.DiffIKQP(paddle.robot),
+        plant=physics.MujocoPlant(physics.scene_for(paddle)),
+    )
+    outcome = physics.outcome(result, paddle)
+    assert outcome.hit
+    assert outcome.heading_error < 0.5

@@ -1,0 +1,75 @@
+import math
+
+import numpy as np
+import pytest
+
+import physics
+import problems
+from optraj.errors import InvalidInputError
+from physics.scene import CUE_TIP_RADIUS, POOL_BALL_MASS, POOL_BALL_RADIUS
+
+
+@pytest.fixture(scope="module")
+def shot():
+    return problems.sawyer_pool_shot(speed=1.0)
+
+
+@pytest.fixture(scope="module")
+def scene(shot):
+    return physics.scene_for(shot)
+
+
+def _speed(record):
+    return float(np.linalg.norm(record["launch"][:2]))
+
+
+@pytest.mark.parametrize("lead", [2.3e-3, 3.7e-3, 6.1e-3])
+def test_a_straight_cue_sends_the_ball_at_the_calibrated_ideal_speed(shot, scene, lead):
+    # The ideal comes from a cue started 5 ms out; other run-ups start the contact at other
+    # phases of the steps, and coarse steps hand over to fine ones at other points.
+    outcome = physics.outcome(physics.straight_cue(scene, shot.direction, 1.0, run_up_time=lead), shot)
+    assert outcome.hit and outcome.contacts == 1
+    assert abs(outcome.speed_error) < 0.01
+    assert abs(outcome.heading_error) < 0.05
+
+
+def test_a_lateral_offset_turns_the_ball_by_the_contact_geometry(shot, scene):
+    offset = 1e-3
+    record = physics.straight_cue(scene, shot.direction, 1.0, offset=(0.0, offset, 0.0))
+    heading = physics.outcome(record, shot).heading_error
+    expected = -math.degrees(math.asin(offset / (POOL_BALL_RADIUS + CUE_TIP_RADIUS)))
+    assert heading == pytest.approx(expected, rel=0.05)
+
+
+def test_a_lighter_cue_follows_the_effective_mass_law(shot, scene):
+    # Newton's impact law: v_ball = (1 + e) m / (m + m_ball) v; e drops out of the ratio.
+    heavy = _speed(physics.straight_cue(scene, shot.direction, 1.0, tool_mass=1000.0))
+    light = _speed(physics.straight_cue(scene, shot.direction, 1.0, tool_mass=2.0))
+    expected = (2.0 / (2.0 + POOL_BALL_MASS)) / (1000.0 / (1000.0 + POOL_BALL_MASS))
+    assert light / heavy == pytest.approx(expected, rel=5e-3)
+    assert 1.75 < heavy < 1.87  # restitution about 0.8
+
+
+def test_the_plan_alone_puts_the_ball_on_its_line(shot, scene):
+    import dataclasses
+
+    import planners
+
+    traj = planners.OptimalControl("time").plan(
+        dataclasses.replace(shot, limits=shot.robot.limits.scaled(0.8))
+    )
+    outcome = physics.outcome(physics.replay(scene, traj), shot)
+    assert outcome.within
+    assert abs(outcome.heading_error) < 0.05
+
+
+def test_replay_checks_its_trajectory(scene):
+    with pytest.raises(InvalidInputError, match="planners.Trajectory"):
+        physics.replay(scene, "plan")
+
+
+def test_straight_cue_checks_its_input(scene):
+    with pytest.raises(InvalidInputError, match="direction"):
+        physics.straight_cue(scene, (0.0, 0.0, 0.0), 1.0)
+    with pytest.raises(InvalidInputError, match="speed"):
+        physics.straight_cue(scene, (1.0, 0.0, 0.0), -1.0)

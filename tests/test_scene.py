@@ -1,0 +1,82 @@
+import mujoco
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import physics
+import robots
+from optraj.errors import InvalidInputError
+
+BALL = (0.75, 0.15, -0.05)
+
+
+@pytest.fixture(scope="module")
+def sawyer():
+    return robots.load("sawyer")
+
+
+def _mass_and_gravity(world, q):
+    data = mujoco.MjData(world.model)
+    data.qpos[world.arm_qpos] = q
+    mujoco.mj_forward(world.model, data)
+    M = np.zeros((world.model.nv, world.model.nv))
+    mujoco.mj_fullM(world.model, data, M)
+    dofs = world.arm_dof
+    return M[np.ix_(dofs, dofs)], data.qfrc_bias[dofs], data
+
+
+@pytest.mark.parametrize("name", ["sawyer", "paddle4"])
+def test_the_scene_arm_has_the_robot_models_dynamics(name):
+    robot = robots.load(name)
+    ball = BALL if name == "sawyer" else (0.8, 0.2, 0.3)
+    scene = physics.pool_scene if name == "sawyer" else physics.paddle_scene
+    world = scene(robot, ball).build()
+    rng = np.random.default_rng(3)
+    for q in robot.random_configurations(5, rng):
+        M, g, _ = _mass_and_gravity(world, q)
+        upper = pin.crba(robot.model, robot.data, q)
+        expected = np.triu(upper) + np.triu(upper, 1).T
+        # Only the striking geoms' 1e-6 kg differ from Pinocchio's model (cue included).
+        np.testing.assert_allclose(M, expected, atol=1e-5)
+        np.testing.assert_allclose(
+            g, pin.computeGeneralizedGravity(robot.model, robot.data, q), atol=1e-4
+        )
+
+
+def test_the_cue_tip_front_is_the_tool_frame(sawyer):
+    world = physics.pool_scene(sawyer, BALL).build()
+    q = sawyer.random_configurations(1, np.random.default_rng(5))[0]
+    _, _, data = _mass_and_gravity(world, q)
+    T = sawyer.tool_pose(q)
+    centre = data.geom_xpos[world.tool_geom]
+    np.testing.assert_allclose(centre + physics.scene.CUE_TIP_RADIUS * T[:3, 2], T[:3, 3], atol=1e-9)
+
+
+def test_model_error_scales_the_links_and_adds_the_payload(sawyer):
+    nominal = physics.pool_scene(sawyer, BALL).build().model
+    heavy = physics.pool_scene(sawyer, BALL, mass_scale=1.1, payload=0.2).build().model
+    arm = [nominal.body(name).id for name in ("right_l0", "right_l3")]
+    np.testing.assert_allclose(heavy.body_mass[arm], 1.1 * nominal.body_mass[arm])
+    links = [nominal.body(f"right_l{i}").id for i in range(7)]
+    added = heavy.body_mass.sum() - nominal.body_mass.sum()
+    assert added == pytest.approx(0.1 * nominal.body_mass[links].sum() + 0.2, rel=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("options", "match"),
+    [
+        ({"mass_scale": -1.0}, "mass_scale"),
+        ({"payload": -0.1}, "payload"),
+        ({"step": 0.0}, "step"),
+        ({"fine_step": 1e-3}, "fine_step"),
+        ({"kinematic": "yes"}, "kinematic"),
+    ],
+)
+def test_bad_scene_options_are_typed_errors(sawyer, options, match):
+    with pytest.raises(InvalidInputError, match=match):
+        physics.pool_scene(sawyer, BALL, **options)
+
+
+def test_scene_for_refuses_other_problems():
+    with pytest.raises(InvalidInputError, match="PoolStrike or a PaddleStrike"):
+        physics.scene_for(object())
