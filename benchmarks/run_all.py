@@ -22,6 +22,7 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+import outcome
 import strike
 import time_optimal
 import tracking
@@ -43,6 +44,7 @@ BENCHMARKS: list[tuple[str, Callable[[list[str]], int], list[str]]] = [
     ("time_optimal", time_optimal.main, []),
     ("strike", strike.main, []),
     ("tracking", tracking.main, []),
+    ("outcome", outcome.main, []),
 ]
 
 

@@ -66,7 +66,9 @@ class ContactWatch:
         if self.touching:
             return True
         w = self.world
-        limit = MARGIN + LOOKAHEAD * (self._speed(data, w.tool_geom) + self._speed(data, w.ball_geom))
+        limit = MARGIN + LOOKAHEAD * (
+            self._speed(data, w.tool_geom) + self._speed(data, w.ball_geom)
+        )
         distance = mujoco.mj_geomDistance(w.model, data, w.tool_geom, w.ball_geom, limit, None)
         return bool(distance < limit)
 

@@ -23,7 +23,8 @@ Contact parameters and why:
   constant gives a contact of about 0.4 ms, the order of a real cue-ball contact (about 1 ms).
 * Ball on cloth: sliding friction 0.2, rolling resistance 0.01 (a length of 0.01 R in MuJoCo)
   and spin friction 0.005 R, the usual ball-cloth values (Alciatore, "Pool and billiards
-  physics resources", useful constants); critically damped, 4 ms (resolved by the 2e-4 s step of the roll-out).
+  physics resources", useful constants); critically damped, 4 ms (resolved by the 2e-4 s
+  step of the roll-out).
 * Ball on cushion: restitution about 0.75 (damping ratio 0.09), friction 0.2 (the same source
   gives 0.6 to 0.9 for the rail).
 """
@@ -90,7 +91,13 @@ FINE_STEP = 2e-6
 #: Contact parameters (see the module docstring).
 TOOL_BALL_SOLREF = (0.002, 0.07)
 TOOL_BALL_SOLIMP = (0.99, 0.999, 0.0001, 0.5, 2.0)
-CLOTH_FRICTION = (0.2, 0.2, 0.005 * POOL_BALL_RADIUS, 0.01 * POOL_BALL_RADIUS, 0.01 * POOL_BALL_RADIUS)
+CLOTH_FRICTION = (
+    0.2,
+    0.2,
+    0.005 * POOL_BALL_RADIUS,
+    0.01 * POOL_BALL_RADIUS,
+    0.01 * POOL_BALL_RADIUS,
+)
 CLOTH_SOLREF = (0.004, 1.0)
 CUSHION_SOLREF = (0.004, 0.09)
 CUSHION_FRICTION = (0.2, 0.2, 0.005, 0.0001, 0.0001)
@@ -265,7 +272,7 @@ class StrikeScene:
             _inert(weight)
         if not self.kinematic:
             self._add_servos(spec)
-        ball_body, ball_geom = self._add_ball(spec)
+        _, ball_geom = self._add_ball(spec)
         self._add_pair(spec, striking, ball_geom, 1, TOOL_BALL_SOLREF, TOOL_BALL_SOLIMP)
         if self.kind == "pool":
             self._add_table(spec, ball_geom)
@@ -304,8 +311,10 @@ class StrikeScene:
         body.explicitinertial = True
         body.mass = float(in_link.mass)
         body.ipos = list(np.asarray(in_link.lever))
-        I = np.asarray(in_link.inertia)
-        body.fullinertia = [I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]]
+        inertia = np.asarray(in_link.inertia)
+        body.fullinertia = [
+            inertia[i, j] for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
+        ]
 
     def _add_servos(self, spec: mujoco.MjSpec) -> None:
         """One torque actuator per arm joint, clipped at the effort limit.

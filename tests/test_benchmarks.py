@@ -181,3 +181,19 @@ def test_run_all_refuses_a_readme_without_markers(tmp_path, monkeypatch):
     readme.write_text("# optraj\n")
     with pytest.raises(ValueError, match="no results markers"):
         module.rewrite_readme(readme, "section")
+
+
+def test_outcome_quick_run_judges_every_strike_by_the_ball(tmp_path, monkeypatch):
+    module = _load("outcome", monkeypatch)
+    monkeypatch.setattr(module, "RESULTS", tmp_path)
+    assert module.main(["--quick"]) == 0
+    text = (tmp_path / "outcome.md").read_text()
+    rows = {
+        tuple(cells[:4]): cells
+        for line in text.split("## Paddle")[0].splitlines()
+        if line.startswith("| 1 |")
+        for cells in [[c.strip() for c in line.strip("|").split("|")]]
+    }
+    assert rows[("1", "min-time OCP", "plan alone", "-")][5].startswith("1/1")
+    assert rows[("1", "min-time OCP", "DiffIKQP", "nominal")][5].startswith("1/1")
+    assert "| DiffIKQP | 1/1 | 1/1" in text.split("## Paddle")[1]

@@ -47,7 +47,7 @@ def test_outcomes_are_deterministic_for_a_seed(shot, plan):
 
 
 def test_a_ball_that_is_never_touched_is_a_miss(shot, plan):
-    elsewhere = physics.scene_for(shot).with_ball(np.asarray(shot.ball) + (0.0, 0.2, 0.0))
+    elsewhere = physics.scene_for(shot).with_ball(np.asarray(shot.ball) + np.array([0.0, 0.2, 0.0]))
     outcome = _track(shot, plan, scene=elsewhere)
     assert not outcome.hit and not outcome.within
     assert outcome.heading_error == np.inf

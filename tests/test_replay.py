@@ -27,7 +27,9 @@ def _speed(record):
 def test_a_straight_cue_sends_the_ball_at_the_calibrated_ideal_speed(shot, scene, lead):
     # The ideal comes from a cue started 5 ms out; other run-ups start the contact at other
     # phases of the steps, and coarse steps hand over to fine ones at other points.
-    outcome = physics.outcome(physics.straight_cue(scene, shot.direction, 1.0, run_up_time=lead), shot)
+    outcome = physics.outcome(
+        physics.straight_cue(scene, shot.direction, 1.0, run_up_time=lead), shot
+    )
     assert outcome.hit and outcome.contacts == 1
     assert abs(outcome.speed_error) < 0.01
     assert abs(outcome.heading_error) < 0.05
@@ -64,7 +66,7 @@ def test_the_plan_alone_puts_the_ball_on_its_line(shot, scene):
 
 
 def test_replay_checks_its_trajectory(scene):
-    with pytest.raises(InvalidInputError, match="planners.Trajectory"):
+    with pytest.raises(InvalidInputError, match=r"planners\.Trajectory"):
         physics.replay(scene, "plan")
 
 

@@ -49,7 +49,9 @@ def test_the_cue_tip_front_is_the_tool_frame(sawyer):
     _, _, data = _mass_and_gravity(world, q)
     T = sawyer.tool_pose(q)
     centre = data.geom_xpos[world.tool_geom]
-    np.testing.assert_allclose(centre + physics.scene.CUE_TIP_RADIUS * T[:3, 2], T[:3, 3], atol=1e-9)
+    np.testing.assert_allclose(
+        centre + physics.scene.CUE_TIP_RADIUS * T[:3, 2], T[:3, 3], atol=1e-9
+    )
 
 
 def test_model_error_scales_the_links_and_adds_the_payload(sawyer):
