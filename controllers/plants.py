@@ -42,7 +42,14 @@ from optraj.errors import InvalidInputError
 from optraj.validation import as_array, as_positive, as_vector
 from robots import Robot
 
-__all__ = ["DynamicPlant", "KinematicPlant", "Plant", "PlantState", "tool_force_to_joint_velocity"]
+__all__ = [
+    "DynamicPlant",
+    "KinematicPlant",
+    "Plant",
+    "PlantState",
+    "frozen_state",
+    "tool_force_to_joint_velocity",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -129,7 +136,7 @@ class Plant(ABC):
         n = self.robot.dof
         position = as_vector(q, "q", n)
         velocity = np.zeros(n) if qd is None else as_vector(qd, "qd", n)
-        self._state = _frozen_state(position, velocity, np.zeros(n), np.zeros(n), False)
+        self._state = frozen_state(position, velocity, np.zeros(n), np.zeros(n), False)
         return self._state
 
     @abstractmethod
@@ -273,7 +280,7 @@ class KinematicPlant(Plant):
                 name="command",
                 value=u,
             )
-        self._state = _frozen_state(q, qd, qdd, tau, False)
+        self._state = frozen_state(q, qd, qdd, tau, False)
         return self._state
 
 
@@ -400,7 +407,7 @@ class DynamicPlant(Plant):
                 value=dt,
             )
         qdd_mean = (qd - state.qd) / dt
-        self._state = _frozen_state(q, qd, qdd_mean, tau_sum / substeps, saturated)
+        self._state = frozen_state(q, qd, qdd_mean, tau_sum / substeps, saturated)
         return self._state
 
 
@@ -454,7 +461,7 @@ def _checked_vector(value: ArrayLike, name: str, n: int) -> FloatArray:
     return as_vector(value, name, n)
 
 
-def _frozen_state(
+def frozen_state(
     q: FloatArray, qd: FloatArray, qdd: FloatArray, tau: FloatArray, saturated: bool
 ) -> PlantState:
     """A PlantState owning read-only copies of the arrays it is given."""

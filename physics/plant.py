@@ -30,7 +30,7 @@ import mujoco
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from controllers.plants import Plant, PlantState
+from controllers.plants import Plant, PlantState, frozen_state
 from optraj.errors import InvalidInputError
 from optraj.validation import as_positive
 from physics.contact_watch import ContactWatch
@@ -235,13 +235,3 @@ class MujocoPlant(Plant):
     def __repr__(self) -> str:
         kind = self.scene.kind
         return f"MujocoPlant({self.robot.name!r}, {kind} scene, bandwidth {self.bandwidth:g} rad/s)"
-
-
-def frozen_state(
-    q: FloatArray, qd: FloatArray, qdd: FloatArray, tau: FloatArray, saturated: bool
-) -> PlantState:
-    """A PlantState owning read-only copies of the arrays it is given."""
-    arrays = [np.array(a, dtype=float) for a in (q, qd, qdd, tau)]
-    for a in arrays:
-        a.setflags(write=False)
-    return PlantState(arrays[0], arrays[1], arrays[2], arrays[3], bool(saturated))
