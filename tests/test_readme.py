@@ -53,7 +53,11 @@ def test_every_python_block_runs():
     # The tracking block's comments.
     pid, qp, run = namespace["pid"], namespace["qp"], namespace["run"]
     over = pid.metrics.violations["command"]
-    assert over.worst == pytest.approx(1.22, abs=0.005) and over.joint == "right_j1"
+    assert over.worst == pytest.approx(1.21, abs=0.005) and over.joint == "right_j1"
     assert qp.metrics.violations["command"].worst <= 1.0
-    assert run.metrics.strike.line_max == pytest.approx(0.0016, abs=1e-4)
-    assert run.metrics.strike.speed_error_max == pytest.approx(0.020, abs=5e-4)
+    assert run.metrics.strike.line_max == pytest.approx(4.5e-5, abs=3e-6)
+    assert run.metrics.strike.speed_error_max == pytest.approx(0.00088, abs=2e-5)
+    # The MuJoCo block's comments.
+    ball, alone = namespace["ball"], namespace["alone"]
+    assert ball.within and alone.within
+    assert ball.heading_error == pytest.approx(0.052, abs=0.005)
