@@ -122,7 +122,6 @@ def main(argv: list[str] | None = None) -> int:
                         pool[(f"{speed:g}", name, label, condition)].append(outcome)
     progress(total, total, "outcome: pool shots")
     paddle = _paddle(1 if quick else max(args.shots // 2, 1))
-    header = "| speed [m/s] | planner | controller | condition | hit | within 0.5 deg, 2 % |"
     lines = [
         "# Strike outcome: where the ball goes",
         "",
@@ -130,7 +129,8 @@ def main(argv: list[str] | None = None) -> int:
         f" ({args.shots} random Sawyer shots per speed, plans within {PLAN_MARGIN:g} of the "
         "limits except the seed's, MuJoCo plant at 1 kHz).",
         "",
-        header[:-1] + " heading error median / p95 [deg] | speed error median / p95 [%] |",
+        "| speed [m/s] | planner | controller | condition | hit | within 0.5 deg, 2 % | heading "
+        "error median / p95 [deg] | speed error median / p95 [%] |",
         "|---|---|---|---|---|---|---|---|",
     ]
     lines += [_row(key, outcomes) for key, outcomes in pool.items()]

@@ -41,7 +41,6 @@ __all__ = [
     "Reference",
     "References",
     "State",
-    "as_flag",
     "as_gains",
     "cross3",
     "rotation_error",
@@ -184,17 +183,6 @@ class References:
             self.phase[k],
             None if self.tau is None else self.tau[k],
         )
-
-
-def as_flag(value: object, name: str) -> bool:
-    """A True/False switch, as a bool.
-
-    Raises:
-        InvalidInputError: Anything but a bool (an int or a string is refused).
-    """
-    if not isinstance(value, (bool, np.bool_)):
-        raise InvalidInputError(f"{name} must be True or False, got {value!r}", name=name)
-    return bool(value)
 
 
 def as_gains(

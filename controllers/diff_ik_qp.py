@@ -58,7 +58,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import lapack
 
 from controllers.cartesian_pid import CartesianPID, tool_kinematics
-from controllers.controller import Command, Controller, Reference, State, as_flag
+from controllers.controller import Command, Controller, Reference, State
 from controllers.fused_step import FusedStep, StepSettings
 from controllers.qp_terms import (
     QP,
@@ -74,7 +74,7 @@ from controllers.qp_terms import (
     velocity_bounds,
 )
 from optraj.errors import InvalidInputError, UnknownNameError, UnsupportedModelError
-from optraj.validation import as_array, as_count, as_fraction, as_positive
+from optraj.validation import as_array, as_count, as_flag, as_fraction, as_positive
 from robots import JointLimits, Robot
 
 __all__ = ["DiffIKQP"]

@@ -13,7 +13,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from controllers.controller import Command, Controller, Reference, State, as_flag, as_gains
+from controllers.controller import Command, Controller, Reference, State, as_gains
+from optraj.validation import as_flag
 from robots import Robot
 
 __all__ = ["JointPD"]

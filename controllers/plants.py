@@ -39,7 +39,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
-from optraj.validation import as_array, as_positive, as_vector
+from optraj.validation import as_array, as_flag, as_positive, as_vector
 from robots import Robot
 
 __all__ = [
@@ -340,11 +340,7 @@ class DynamicPlant(Plant):
         super().__init__(robot)
         self.bandwidth = as_positive(bandwidth, "bandwidth", "rad/s")
         self.max_substep = as_positive(max_substep, "max_substep", "s")
-        if not isinstance(saturate, (bool, np.bool_)):
-            raise InvalidInputError(
-                f"saturate must be True or False, got {saturate!r}", name="saturate"
-            )
-        self.saturate = bool(saturate)
+        self.saturate = as_flag(saturate, "saturate")
 
     @property
     def name(self) -> str:

@@ -19,9 +19,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from controllers.cartesian_pid import CartesianPID, tool_kinematics
-from controllers.controller import Command, Controller, Reference, State, as_flag, cross3
+from controllers.controller import Command, Controller, Reference, State, cross3
 from optraj.errors import InvalidInputError
-from optraj.validation import as_array
+from optraj.validation import as_array, as_flag
 from robots import Robot
 
 __all__ = ["PseudoInversePID"]

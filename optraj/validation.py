@@ -18,6 +18,7 @@ __all__ = [
     "as_array",
     "as_batch",
     "as_count",
+    "as_flag",
     "as_fraction",
     "as_positive",
     "as_transform",
@@ -99,6 +100,13 @@ def as_count(value: object, name: str, minimum: int = 0) -> int:
             f"{name} must be an integer >= {minimum}, got {value!r}", name=name, value=value
         )
     return int(value)
+
+
+def as_flag(value: object, name: str) -> bool:
+    """Return ``value`` as a bool: a True/False switch (an int or a string is refused)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise InvalidInputError(f"{name} must be True or False, got {value!r}", name=name)
+    return bool(value)
 
 
 def as_positive(value: float, name: str, unit: str = "") -> float:

@@ -125,8 +125,7 @@ class ContactWatch:
                 if contact.geom[0] == w.ball_geom:  # the frame's normal points from geom1
                     normal = -normal
                 self.normal = normal
-                self.inverse_inertia = self._inverse_inertia(data, self.point)
-                self.tool_velocity = self._point_velocity(data)
+                self._tool_at_contact(data)
         elif index < 0 and self.touching:
             self.touching = False
             if self.contacts == 1:
@@ -143,21 +142,15 @@ class ContactWatch:
                 return k
         return -1
 
-    def _inverse_inertia(self, data: mujoco.MjData, point: FloatArray) -> FloatArray:
-        """``J M^-1 J^T`` of the tool body at ``point`` [1/kg], shape (3, 3)."""
-        model = self.world.model
-        jacp = np.zeros((3, model.nv))
-        mujoco.mj_jac(model, data, jacp, None, point, self.world.tool_body)
-        solved = np.zeros((3, model.nv))
-        mujoco.mj_solveM(model, data, solved, jacp)
-        return jacp @ solved.T
-
-    def _point_velocity(self, data: mujoco.MjData) -> FloatArray:
-        """Velocity of the tool body at the contact point [m/s], shape (3,)."""
+    def _tool_at_contact(self, data: mujoco.MjData) -> None:
+        """The tool body's ``J M^-1 J^T`` [1/kg] and velocity [m/s] at the contact point."""
         model = self.world.model
         jacp = np.zeros((3, model.nv))
         mujoco.mj_jac(model, data, jacp, None, self.point, self.world.tool_body)
-        return jacp @ data.qvel
+        solved = np.zeros((3, model.nv))
+        mujoco.mj_solveM(model, data, solved, jacp)
+        self.inverse_inertia = jacp @ solved.T
+        self.tool_velocity = jacp @ data.qvel
 
     def record(self) -> dict[str, Any]:
         """What the contact did, as plain numbers and arrays."""

@@ -32,7 +32,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from controllers.plants import Plant, PlantState, frozen_state
 from optraj.errors import InvalidInputError
-from optraj.validation import as_positive
+from optraj.validation import as_flag, as_positive
 from physics.contact_watch import ContactWatch
 from physics.scene import StrikeScene, World
 
@@ -75,38 +75,29 @@ class MujocoPlant(Plant):
         super().__init__(scene.robot)
         self.scene = scene
         self.bandwidth = as_positive(bandwidth, "bandwidth", "rad/s")
-        if not isinstance(saturate, (bool, np.bool_)):
-            raise InvalidInputError(f"saturate must be True or False, got {saturate!r}", "saturate")
-        self.saturate = bool(saturate)
+        self.saturate = as_flag(saturate, "saturate")
         self._build()
 
     def _build(self) -> None:
         self.world: World = self.scene.build()
-        nominal = self.scene
-        if np.any(np.asarray(nominal.mass_scale) != 1.0) or nominal.payload > 0.0:
-            from physics.scene import _replace  # the same scene without its model error
-
-            nominal = _replace(nominal, mass_scale=1.0, payload=0.0)
-        self._nominal = nominal.build()
+        # The servo's model: the true world itself unless it carries a model error (the
+        # servo reads only masses and gravity, which the actuator settings do not touch).
+        self._nominal = self.scene.nominal().build() if self.scene.has_model_error else self.world
         self.data = mujoco.MjData(self.world.model)
         self._nominal_data = mujoco.MjData(self._nominal.model)
         self._watch = ContactWatch(self.world)
         self._mass = np.zeros((self._nominal.model.nv, self._nominal.model.nv))
-        self._force = np.zeros(self.world.model.nv)
         self._times: list[float] = []
         self._ball: list[FloatArray] = []
-        effort = self.robot.limits.effort
+        # The scene clips every actuator at its effort limit; saturate=False lifts that.
         self.world.model.actuator_forcelimited[:] = 1 if self.saturate else 0
-        self.world.model.actuator_forcerange[:] = np.stack([-effort, effort], axis=1)
 
     def __getstate__(self) -> dict[str, Any]:
-        state = {"scene": self.scene, "bandwidth": self.bandwidth, "saturate": self.saturate}
-        state["robot"] = self.robot
-        return state
+        return {"scene": self.scene, "bandwidth": self.bandwidth, "saturate": self.saturate}
 
     def __setstate__(self, state: dict[str, Any]) -> None:
-        self.robot = state["robot"]
         self.scene = state["scene"]
+        self.robot = self.scene.robot
         self.bandwidth = state["bandwidth"]
         self.saturate = state["saturate"]
         self._state = None

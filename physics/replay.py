@@ -76,11 +76,7 @@ def straight_cue(
     data = mujoco.MjData(world.model)
     _place_ball(world, data)
     ball = np.asarray(scene.ball)
-    start = ball + shift - (scene.ball_radius + lead * v) * d
-    if scene.kind == "paddle":  # the ball centre is met BALL_OFFSET off the paddle frame
-        from robots.paddle_ik import BALL_OFFSET
-
-        start = start - (BALL_OFFSET - scene.ball_radius) * d
+    start = ball + shift - (scene.contact_offset + lead * v) * d
     _set_tool(world, data, _frame_along(d, start), np.concatenate([v * d, np.zeros(3)]))
     mujoco.mj_forward(world.model, data)
     watch = ContactWatch(world)

@@ -31,6 +31,7 @@ Contact parameters and why:
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from importlib import resources
 from typing import Literal
@@ -41,9 +42,10 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
-from optraj.validation import as_array, as_positive, as_vector
+from optraj.validation import as_array, as_flag, as_positive, as_vector
 from problems.pool_strike import POOL_BALL_RADIUS
 from robots import Robot
+from robots.loading import urdf_model
 from robots.paddle_ik import BALL_OFFSET
 
 __all__ = [
@@ -188,10 +190,7 @@ class StrikeScene:
         set_(self, "ball_radius", as_positive(self.ball_radius, "ball_radius", "m"))
         set_(self, "ball_mass", as_positive(self.ball_mass, "ball_mass", "kg"))
         set_(self, "tool_mass", as_positive(self.tool_mass, "tool_mass", "kg"))
-        if not isinstance(self.kinematic, (bool, np.bool_)):
-            raise InvalidInputError(
-                f"kinematic must be True or False, got {self.kinematic!r}", name="kinematic"
-            )
+        set_(self, "kinematic", as_flag(self.kinematic, "kinematic"))
         scale = np.broadcast_to(
             as_array(self.mass_scale, "mass_scale", (None,) if np.ndim(self.mass_scale) else ()),
             (self.robot.dof,),
@@ -233,13 +232,31 @@ class StrikeScene:
         """Height of the table surface (pool) [m]: the ball rests on it."""
         return float(np.asarray(self.ball)[2]) - float(self.ball_radius)
 
+    @property
+    def contact_offset(self) -> float:
+        """How far ahead of the tool frame, along its z axis, the ball centre is met [m].
+
+        Pool: one ball radius (the tool frame is the front of the cue tip). Paddle: the
+        seed's ``BALL_OFFSET`` from the paddle centre, as the plans place the ball.
+        """
+        return float(self.ball_radius) if self.kind == "pool" else BALL_OFFSET
+
     def with_ball(self, ball: ArrayLike) -> StrikeScene:
         """The same scene with the ball elsewhere."""
-        return _replace(self, ball=ball)
+        return dataclasses.replace(self, ball=ball)
 
     def as_kinematic(self, tool_mass: float = KINEMATIC_TOOL_MASS) -> StrikeScene:
         """The same world with only the tool, as a free body of ``tool_mass`` [kg]."""
-        return _replace(self, kinematic=True, tool_mass=tool_mass)
+        return dataclasses.replace(self, kinematic=True, tool_mass=tool_mass)
+
+    def nominal(self) -> StrikeScene:
+        """The same world without its model error (no mass scale, no payload)."""
+        return dataclasses.replace(self, mass_scale=1.0, payload=0.0)
+
+    @property
+    def has_model_error(self) -> bool:
+        """Whether link masses are scaled or a payload is carried."""
+        return bool(np.any(np.asarray(self.mass_scale) != 1.0)) or self.payload > 0.0
 
     # ------------------------------------------------------------------------------ build
 
@@ -302,7 +319,7 @@ class StrikeScene:
         model = self.robot.model
         parent_frame = model.frames[model.getFrameId(self._tool_parent)]
         joint = parent_frame.parentJoint
-        urdf = _urdf_model(self.robot.name)
+        urdf = urdf_model(self.robot.name)
         tool = model.inertias[joint] - urdf.inertias[joint]
         if tool.mass <= 1e-9:
             return
@@ -354,9 +371,9 @@ class StrikeScene:
 
     def _add_paddle(self, body: mujoco.MjsBody, offset: FloatArray) -> str:
         normal = offset[:3, 2]
-        # The planned ball centre is BALL_OFFSET along the normal from the tool frame; the
-        # face sits one ball radius behind it, so that this ball touches at that point.
-        face = offset[:3, 3] + (BALL_OFFSET - float(self.ball_radius)) * normal
+        # The face sits one ball radius short of where the plan puts the ball centre, so
+        # that this ball touches there.
+        face = offset[:3, 3] + (self.contact_offset - float(self.ball_radius)) * normal
         blade = body.add_geom(name="paddle_blade", type=mujoco.mjtGeom.mjGEOM_CYLINDER)
         blade.size = [PADDLE_RADIUS, PADDLE_THICKNESS / 2, 0]
         blade.pos = face - (PADDLE_THICKNESS / 2) * normal
@@ -473,44 +490,17 @@ def paddle_scene(robot: Robot, ball: ArrayLike, **options: object) -> StrikeScen
     return StrikeScene(robot, "paddle", ball, PADDLE_BALL_RADIUS, PADDLE_BALL_MASS, **options)  # type: ignore[arg-type]
 
 
-def _replace(scene: StrikeScene, **changes: object) -> StrikeScene:
-    fields = {
-        "robot": scene.robot,
-        "kind": scene.kind,
-        "ball": scene.ball,
-        "ball_radius": scene.ball_radius,
-        "ball_mass": scene.ball_mass,
-        "kinematic": scene.kinematic,
-        "tool_mass": scene.tool_mass,
-        "mass_scale": scene.mass_scale,
-        "payload": scene.payload,
-        "step": scene.step,
-        "fine_step": scene.fine_step,
-    }
-    fields.update(changes)
-    return StrikeScene(**fields)  # type: ignore[arg-type]
-
-
-def _urdf_model(name: str) -> pin.Model:
-    """The Pinocchio model of a shipped URDF as it is, without a tool."""
-    urdf = resources.files("robots") / "urdf" / f"{name}.urdf"
-    with resources.as_file(urdf) as path:
-        return pin.buildModelFromUrdf(str(path))
-
-
 def _tool_parent(robot: Robot) -> str:
     """The URDF link that carries the tool frame (walking up from the tool frame)."""
-    model = robot.model
-    frame = model.frames[robot.tool_frame_id]
-    while frame.type not in (pin.FrameType.BODY,):
-        if frame.parentFrame == 0 or frame.parentFrame >= len(model.frames):
-            break
-        frame = model.frames[frame.parentFrame]
-    if frame.type != pin.FrameType.BODY:
-        raise InvalidInputError(
-            f"robot {robot.name!r}: no URDF link carries its tool frame", name="robot"
-        )
-    return str(frame.name)
+    frames = robot.model.frames
+    index = robot.tool_frame_id
+    while frames[index].type != pin.FrameType.BODY:
+        if index == 0:  # the universe: no link above the tool frame
+            raise InvalidInputError(
+                f"robot {robot.name!r}: no URDF link carries its tool frame", name="robot"
+            )
+        index = frames[index].parentFrame
+    return str(frames[index].name)
 
 
 def _inert(geom: mujoco.MjsGeom) -> None:

@@ -149,7 +149,7 @@ from optraj.errors import (
     UnknownNameError,
     UnreachableError,
 )
-from optraj.validation import as_array, as_count, as_positive
+from optraj.validation import as_array, as_count, as_flag, as_positive
 from planners.base import CompiledCache, stamp
 from planners.checker import RELATIVE_SLACK
 from planners.contact import (
@@ -572,11 +572,8 @@ class OptimalControl(CompiledCache):
         self.tolerance = as_positive(tolerance, "tolerance")
         self.contact_candidates = as_count(contact_candidates, "contact_candidates", 1)
         self.contact_retries = as_count(contact_retries, "contact_retries", 0)
-        for name, flag in (("free_grid", free_grid), ("reuse_contact", reuse_contact)):
-            if not isinstance(flag, (bool, np.bool_)):
-                raise InvalidInputError(f"{name} must be True or False, got {flag!r}", name=name)
-        self.free_grid = bool(free_grid)
-        self.reuse_contact = bool(reuse_contact)
+        self.free_grid = as_flag(free_grid, "free_grid")
+        self.reuse_contact = as_flag(reuse_contact, "reuse_contact")
         self._compiled: dict[Structure, CompiledNLP] = {}
         self._models: dict[str, SymbolicModel] = {}
         self._lock = threading.Lock()

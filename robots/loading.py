@@ -24,7 +24,7 @@ from optraj.validation import as_array, as_positive
 from robots.limits import JointLimits
 from robots.robot import Robot
 
-__all__ = ["known_robots", "load"]
+__all__ = ["known_robots", "load", "urdf_model"]
 
 #: Jerk = this factor x acceleration where no jerk limit is published [1/s] (our choice).
 JERK_PER_ACCELERATION = 20.0
@@ -83,7 +83,8 @@ class _Entry:
     summary: str
 
 
-def _urdf_model(name: str) -> pin.Model:
+def urdf_model(name: str) -> pin.Model:
+    """The Pinocchio model of a shipped URDF file as it is (no tool frame, no tool mass)."""
     urdf = resources.files("robots") / "urdf" / f"{name}.urdf"
     with resources.as_file(urdf) as path:
         return pin.buildModelFromUrdf(str(path))
@@ -135,7 +136,7 @@ def _add_tool_frame(model: pin.Model, name: str, parent_frame: str, offset: pin.
 
 
 def _paddle4() -> Robot:
-    model = _urdf_model("paddle4")
+    model = urdf_model("paddle4")
     return Robot(
         "paddle4",
         model,
@@ -169,7 +170,7 @@ def _sawyer(cue_length: float = SAWYER_CUE_LENGTH, cue_mass: float = SAWYER_CUE_
             name="cue_mass",
             value=cue_mass,
         )
-    model = _urdf_model("sawyer")
+    model = urdf_model("sawyer")
     _add_tool_frame(model, "cue_tip", "right_hand", pin.SE3(np.eye(3), np.array([0, 0, length])))
     if mass > 0.0:
         hand = model.frames[model.getFrameId("right_hand")]
@@ -190,7 +191,7 @@ def _sawyer(cue_length: float = SAWYER_CUE_LENGTH, cue_mass: float = SAWYER_CUE_
 
 
 def _youbot() -> Robot:
-    model = _urdf_model("youbot")
+    model = urdf_model("youbot")
     return Robot(
         "youbot",
         model,

@@ -59,3 +59,22 @@ def race(worker: Callable[[int], None], threads: int) -> list[BaseException]:
     finally:
         sys.setswitchinterval(interval)
     return errors
+
+
+@pytest.fixture(scope="session")
+def pool_shot():
+    """The README's Sawyer pool shot at 1 m/s."""
+    import problems
+
+    return problems.sawyer_pool_shot(speed=1.0)
+
+
+@pytest.fixture(scope="session")
+def pool_plan(pool_shot):
+    """Its minimum-time strike planned within 80 % of the limits: room for feedback."""
+    import dataclasses
+
+    import planners
+
+    room = dataclasses.replace(pool_shot, limits=pool_shot.robot.limits.scaled(0.8))
+    return planners.OptimalControl("time").plan(room)

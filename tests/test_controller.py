@@ -12,7 +12,6 @@ from controllers.controller import (
     Reference,
     References,
     State,
-    as_flag,
     as_gains,
     cross3,
     rotation_error,
@@ -303,14 +302,6 @@ def test_as_gains_shapes(value, expected):
     assert gains.shape == (6,)
     assert gains.dtype == np.float64
     np.testing.assert_allclose(gains, expected, rtol=0, atol=0)
-
-
-def test_as_flag_takes_bools_only():
-    assert as_flag(True, "feedforward") is True
-    assert as_flag(np.bool_(False), "feedforward") is False
-    for bad in (1, 0, "yes", None, 1.0):
-        with pytest.raises(InvalidInputError, match=r"feedforward must be True or False"):
-            as_flag(bad, "feedforward")
 
 
 def test_as_gains_errors():

@@ -11,14 +11,13 @@ from optraj.errors import InvalidInputError
 
 
 @pytest.fixture(scope="module")
-def shot():
-    return problems.sawyer_pool_shot(speed=1.0)
+def shot(pool_shot):
+    return pool_shot
 
 
 @pytest.fixture(scope="module")
-def plan(shot):
-    room = dataclasses.replace(shot, limits=shot.robot.limits.scaled(0.8))
-    return planners.OptimalControl("time").plan(room)
+def plan(pool_plan):
+    return pool_plan
 
 
 def _track(shot, plan, scene=None, **options):

@@ -4,14 +4,13 @@ import numpy as np
 import pytest
 
 import physics
-import problems
 from optraj.errors import InvalidInputError
 from physics.scene import CUE_TIP_RADIUS, POOL_BALL_MASS, POOL_BALL_RADIUS
 
 
 @pytest.fixture(scope="module")
-def shot():
-    return problems.sawyer_pool_shot(speed=1.0)
+def shot(pool_shot):
+    return pool_shot
 
 
 @pytest.fixture(scope="module")
@@ -52,15 +51,8 @@ def test_a_lighter_cue_follows_the_effective_mass_law(shot, scene):
     assert 1.75 < heavy < 1.87  # restitution about 0.8
 
 
-def test_the_plan_alone_puts_the_ball_on_its_line(shot, scene):
-    import dataclasses
-
-    import planners
-
-    traj = planners.OptimalControl("time").plan(
-        dataclasses.replace(shot, limits=shot.robot.limits.scaled(0.8))
-    )
-    outcome = physics.outcome(physics.replay(scene, traj), shot)
+def test_the_plan_alone_puts_the_ball_on_its_line(shot, scene, pool_plan):
+    outcome = physics.outcome(physics.replay(scene, pool_plan), shot)
     assert outcome.within
     assert abs(outcome.heading_error) < 0.05
 

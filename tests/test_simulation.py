@@ -18,15 +18,14 @@ from optraj.errors import InvalidInputError, SolverError, UnknownNameError
 
 
 @pytest.fixture(scope="module")
-def shot():
-    return problems.sawyer_pool_shot(speed=1.0)
+def shot(pool_shot):
+    return pool_shot
 
 
 @pytest.fixture(scope="module")
-def nominal(shot):
+def nominal(pool_plan):
     """A minimum-time strike planned within 80 % of the limits: room for feedback."""
-    planned = dataclasses.replace(shot, limits=shot.robot.limits.scaled(0.8))
-    return planners.OptimalControl("time").plan(planned)
+    return pool_plan
 
 
 @pytest.fixture(scope="module")

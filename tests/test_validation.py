@@ -9,11 +9,20 @@ from optraj.errors import InvalidInputError
 from optraj.validation import (
     as_array,
     as_batch,
+    as_flag,
     as_fraction,
     as_positive,
     as_transform,
     as_vector,
 )
+
+
+def test_as_flag_takes_bools_only():
+    assert as_flag(True, "feedforward") is True
+    assert as_flag(np.bool_(False), "feedforward") is False
+    for bad in (1, 0, "yes", None, 1.0):
+        with pytest.raises(InvalidInputError, match=r"feedforward must be True or False"):
+            as_flag(bad, "feedforward")
 
 
 def test_as_vector_accepts_and_copies_lists():
