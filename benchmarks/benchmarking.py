@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -51,7 +52,12 @@ def pool_shots(count: int, seed: int = SEED) -> tuple[list[problems.PoolStrike],
 
 
 def shot_arguments(
-    argv: list[str] | None, doc: str | None, default: int, quick: int, out: Path
+    argv: list[str] | None,
+    doc: str | None,
+    default: int,
+    quick: int,
+    out: Path,
+    extra: Callable[[argparse.ArgumentParser], None] | None = None,
 ) -> argparse.Namespace:
     """Parse ``--shots N``, ``--quick`` (``quick`` shots, for CI) and ``--out PATH``.
 
@@ -61,11 +67,14 @@ def shot_arguments(
         default: Shots without ``--shots``.
         quick: Shots with ``--quick``.
         out: The Markdown file written without ``--out``.
+        extra: Adds the script's own arguments to the parser; none when None.
     """
     parser = argparse.ArgumentParser(description=(doc or "").split("\n\n")[0])
     parser.add_argument("--shots", type=int, default=default, help="random shots")
     parser.add_argument("--quick", action="store_true", help=f"{quick} shots only (for CI)")
     parser.add_argument("--out", type=Path, default=out, help="Markdown file to write")
+    if extra is not None:
+        extra(parser)
     args = parser.parse_args(argv)
     if args.quick:
         args.shots = quick

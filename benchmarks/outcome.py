@@ -5,14 +5,27 @@ strikes, each planned, tracked on physics.MujocoPlant at 1 kHz and judged by
 physics.outcome: hit rate, heading and speed errors (median / p95) and the share within
 0.5 deg and 2 % of the commanded shot. "plan alone" is the plan replayed by a kinematic tool.
 
-Usage: ``python benchmarks/outcome.py [--shots N] [--quick] [--out PATH]``
+Every plan is replayed alone for all ``--shots``; the minimum-time OCP (the README's tracked
+plan) is tracked by every controller in every condition for all of them, the other planners
+for the first ``--others`` shots of each speed (all by default). Shots run in ``--workers``
+processes; the outcome of a shot does not depend on how many.
+
+Writes the table to ``--out`` and, beside it, ``outcome_paths.png`` (balls from above) and
+``outcome_heading.png`` (heading-error distribution per controller and condition).
+
+Usage: ``python benchmarks/outcome.py [--shots N] [--others N] [--paddle N] [--workers N]
+[--quick] [--out PATH]``
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
+import multiprocessing
+import os
 import sys
 from collections import defaultdict
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Any
 
@@ -33,27 +46,50 @@ CONDITIONS = ("nominal", "noise", "latency 2", "masses +10 %", "masses -10 %", "
 PUSH = 20.0  # [N] down on the tool for 10 ms, 50 ms before the strike window
 #: Paddle strikes: ball speed along the paddle normal [m/s].
 PADDLE_SPEED = 0.5
+#: The planner every controller tracks for every shot (the others for ``--others`` shots).
+PRIMARY = "min-time OCP"
+CONTROLLERS = ("PseudoInversePID", "DiffIKQP", "JointPD")
+#: Issue targets for DiffIKQP on the primary plans: share within, by condition.
+TARGET_SHARE = {"nominal": 0.99, "noise": 0.99, "latency 2": 0.95, "masses +10 %": 0.95,
+                "masses -10 %": 0.95}  # fmt: skip
+TARGET_MEDIAN = 0.05  # [deg] DiffIKQP median |heading error|, nominal
+TARGET_PADDLE = 0.99
+#: A plan alone that touches the ball this long before its strike line [s] hit it on the way.
+EARLY = 1e-3
+
+Key = tuple[str, ...]
 
 
 def _planners() -> list[tuple[str, Any, bool]]:
     """(label, planner, plan within PLAN_MARGIN of the limits)."""
     return [
-        ("min-time OCP", planners.OptimalControl("time"), True),
+        (PRIMARY, planners.OptimalControl("time"), True),
         ("min-jerk OCP", planners.OptimalControl("jerk"), True),
         ("Ruckig strike", planners.TimeOptimalStrike(), True),
         ("seed", planners.SeedStrike(), False),
     ]
 
 
-def _controllers(robot) -> list[tuple[str, controllers.Controller]]:
-    return [
-        ("PseudoInversePID", controllers.PseudoInversePID(robot)),
-        ("DiffIKQP", controllers.DiffIKQP(robot)),
-        ("JointPD", controllers.JointPD(robot)),
-    ]
+def _controller(label: str, robot) -> controllers.Controller:
+    return {
+        "PseudoInversePID": controllers.PseudoInversePID,
+        "DiffIKQP": controllers.DiffIKQP,
+        "JointPD": controllers.JointPD,
+    }[label](robot)
 
 
-def _run(shot, traj, controller, condition: str, seed: int) -> physics.Outcome:
+@functools.cache
+def _base(count: int) -> list[problems.PoolStrike]:
+    return pool_shots(count)[0]
+
+
+def _slim(outcome: physics.Outcome) -> physics.Outcome:
+    """The outcome with its run path thinned (the ball rests until the strike)."""
+    path = outcome.path
+    return dataclasses.replace(outcome, path=np.concatenate([path[::25], path[-1:]]))
+
+
+def _run(shot, traj, label: str, condition: str, seed: int) -> physics.Outcome:
     options: dict[str, Any] = {}
     scene_options: dict[str, Any] = {}
     if condition == "noise":
@@ -68,88 +104,46 @@ def _run(shot, traj, controller, condition: str, seed: int) -> physics.Outcome:
         start = traj.phase("strike").t_start - 0.05
         options["disturbance"] = controllers.Impulse(start, [0.0, 0.0, -PUSH], 0.01)
     plant = physics.MujocoPlant(physics.scene_for(shot, **scene_options))
+    controller = _controller(label, shot.robot)
     result = controllers.simulate(shot.robot, traj, controller, plant=plant, settle=0.05, **options)
-    return physics.outcome(result, shot)
+    return _slim(physics.outcome(result, shot))
 
 
-def _row(label: tuple[str, ...], outcomes: list[physics.Outcome]) -> str:
-    hits = [o for o in outcomes if o.hit]
-    heading = np.abs([o.heading_error for o in hits]) if hits else np.array([np.nan])
-    speed = np.abs([o.speed_error for o in hits]) * 100 if hits else np.array([np.nan])
-    within = sum(o.within for o in outcomes)
-    cells = [
-        *label,
-        f"{len(hits)}/{len(outcomes)}",
-        f"{within}/{len(outcomes)} ({100 * within / max(len(outcomes), 1):.0f} %)",
-        f"{np.median(heading):.3f} / {np.percentile(heading, 95):.3f}",
-        f"{np.median(speed):.2f} / {np.percentile(speed, 95):.2f}",
-    ]
-    return "| " + " | ".join(cells) + " |"
+def pool_case(
+    speed: float, index: int, count: int, tracked: tuple[str, ...], conditions: tuple[str, ...]
+) -> tuple[list[tuple[Key, physics.Outcome]], list[str]]:
+    """One shot at one speed: every planner alone, the ``tracked`` ones by every controller.
+
+    Returns ``([(key, outcome), ...], notes)``: keys are ``(speed, planner, controller or
+    "plan alone", condition or "-")``; a note is a planner that failed (its label) or whose
+    plan alone touched the ball before its strike line (``"<label> early"``).
+    """
+    shot = dataclasses.replace(_base(count)[index], speed=speed)
+    found: list[tuple[Key, physics.Outcome]] = []
+    failed: list[str] = []
+    for name, planner, margin in _planners():
+        roomy = shot.robot.limits.scaled(PLAN_MARGIN)
+        problem = dataclasses.replace(shot, limits=roomy) if margin else shot
+        try:
+            traj = planner.plan(problem)
+        except OptrajError:
+            failed.append(name)
+            continue
+        alone = physics.outcome(physics.replay(physics.scene_for(shot), traj), shot)
+        found.append(((f"{speed:g}", name, "plan alone", "-"), _slim(alone)))
+        if alone.hit and alone.contact_time < traj.phase("strike").t_start - EARLY:
+            failed.append(f"{name} early")
+        if name not in tracked:
+            continue
+        for label in CONTROLLERS:
+            for condition in conditions:
+                outcome = _run(shot, traj, label, condition, seed=index)
+                found.append(((f"{speed:g}", name, label, condition), outcome))
+    return found, failed
 
 
-def main(argv: list[str] | None = None) -> int:
-    args = shot_arguments(argv, __doc__, default=10, quick=1, out=RESULTS / "outcome.md")
-    quick = args.quick
-    speeds = SPEEDS[1:] if quick else SPEEDS
-    conditions = CONDITIONS[:1] + CONDITIONS[2:3] if quick else CONDITIONS
-    chosen = _planners()[:1] if quick else _planners()
-    base, _ = pool_shots(args.shots)
-    pool: dict[tuple[str, ...], list[physics.Outcome]] = defaultdict(list)
-    failed: dict[str, int] = defaultdict(int)
-    total = len(speeds) * len(base)
-    done = 0
-    for speed in speeds:
-        for index, shot0 in enumerate(base):
-            progress(done, total, "outcome: pool shots")
-            done += 1
-            shot = dataclasses.replace(shot0, speed=speed)
-            for name, planner, margin in chosen:
-                problem = (
-                    dataclasses.replace(shot, limits=shot.robot.limits.scaled(PLAN_MARGIN))
-                    if margin
-                    else shot
-                )
-                try:
-                    traj = planner.plan(problem)
-                except OptrajError:
-                    failed[name] += 1
-                    continue
-                alone = physics.outcome(physics.replay(physics.scene_for(shot), traj), shot)
-                pool[(f"{speed:g}", name, "plan alone", "-")].append(alone)
-                for label, controller in _controllers(shot.robot):
-                    for condition in conditions:
-                        outcome = _run(shot, traj, controller, condition, seed=index)
-                        pool[(f"{speed:g}", name, label, condition)].append(outcome)
-    progress(total, total, "outcome: pool shots")
-    paddle = _paddle(1 if quick else max(args.shots // 2, 1))
-    lines = [
-        "# Strike outcome: where the ball goes",
-        "",
-        f"Command: `python benchmarks/outcome.py{' --quick' if quick else ''}`"
-        f" ({args.shots} random Sawyer shots per speed, plans within {PLAN_MARGIN:g} of the "
-        "limits except the seed's, MuJoCo plant at 1 kHz).",
-        "",
-        "| speed [m/s] | planner | controller | condition | hit | within 0.5 deg, 2 % | heading "
-        "error median / p95 [deg] | speed error median / p95 [%] |",
-        "|---|---|---|---|---|---|---|---|",
-    ]
-    lines += [_row(key, outcomes) for key, outcomes in pool.items()]
-    lines += [
-        "",
-        "Plans that failed: " + (", ".join(f"{k} {v}" for k, v in failed.items()) or "none"),
-    ]
-    lines += ["", "## Paddle strikes (paddle4, min-time OCP, nominal)", ""]
-    lines += [
-        "| controller | hit | within 0.5 deg of the normal, 2 % | heading error median / p95 "
-        "[deg] | speed error median / p95 [%] |",
-        "|---|---|---|---|---|",
-    ]
-    lines += [_row((label,), outcomes) for label, outcomes in paddle.items()]
-    write_report(lines, args.out)
-    return 0
-
-
-def _paddle(count: int) -> dict[str, list[physics.Outcome]]:
+def paddle_cases(count: int) -> dict[str, list[physics.Outcome]]:
+    """``count`` random reachable paddle4 strikes, alone and tracked by every controller."""
     rng = np.random.default_rng(11)
     robot = problems.seed_paddle_strike().robot
     found: dict[str, list[physics.Outcome]] = defaultdict(list)
@@ -165,14 +159,257 @@ def _paddle(count: int) -> dict[str, list[physics.Outcome]]:
         except OptrajError:
             continue
         made += 1
-        found["plan alone"].append(
-            physics.outcome(physics.replay(physics.scene_for(strike), traj), strike)
-        )
-        for label, controller in _controllers(robot):
+        alone = physics.outcome(physics.replay(physics.scene_for(strike), traj), strike)
+        found["plan alone"].append(_slim(alone))
+        for label in CONTROLLERS:
             plant = physics.MujocoPlant(physics.scene_for(strike))
-            result = controllers.simulate(robot, traj, controller, plant=plant, settle=0.05)
-            found[label].append(physics.outcome(result, strike))
-    return found
+            result = controllers.simulate(
+                robot, traj, _controller(label, robot), plant=plant, settle=0.05
+            )
+            found[label].append(_slim(physics.outcome(result, strike)))
+    return dict(found)
+
+
+def _share(outcomes: list[physics.Outcome]) -> float:
+    return sum(o.within for o in outcomes) / max(len(outcomes), 1)
+
+
+def _row(label: Key, outcomes: list[physics.Outcome]) -> str:
+    hits = [o for o in outcomes if o.hit]
+    cells = [*label, f"{len(hits)}/{len(outcomes)}"]
+    within = sum(o.within for o in outcomes)
+    cells.append(f"{within}/{len(outcomes)} ({100 * within / max(len(outcomes), 1):.0f} %)")
+    if hits:
+        heading = np.abs([o.heading_error for o in hits])
+        speed = np.abs([o.speed_error for o in hits]) * 100
+        cells.append(f"{np.median(heading):.3f} / {np.percentile(heading, 95):.3f}")
+        cells.append(f"{np.median(speed):.2f} / {np.percentile(speed, 95):.2f}")
+    else:
+        cells += ["- (no hit)", "- (no hit)"]
+    return "| " + " | ".join(cells) + " |"
+
+
+def _targets(
+    pool: dict[Key, list[physics.Outcome]],
+    paddle: dict[str, list[physics.Outcome]],
+    speeds: tuple[float, ...],
+    conditions: tuple[str, ...],
+    early: dict[str, int],
+) -> list[str]:
+    """The issue's targets against this run: one row each, met or not."""
+    rows: list[tuple[str, str, str, bool | None]] = []
+    for name, _, _ in _planners():
+        alone = [o for k, items in pool.items() if k[1:3] == (name, "plan alone") for o in items]
+        if alone:
+            struck = early.get(name, 0)
+            note = f" ({struck} knocked the ball before the strike line)" if struck else ""
+            share = _share(alone)
+            rows.append((f"{name} alone within", "100 %", f"{100 * share:.1f} %{note}",
+                         share == 1.0))  # fmt: skip
+    for speed in speeds:
+        s = f"{speed:g}"
+        for condition in conditions:
+            qp = pool.get((s, PRIMARY, "DiffIKQP", condition), [])
+            pid = pool.get((s, PRIMARY, "PseudoInversePID", condition), [])
+            if not qp:
+                continue
+            need = TARGET_SHARE.get(condition)
+            missed = sum(not o.hit for o in qp)
+            got = f"{100 * _share(qp):.1f} % ({missed} missed; PID {100 * _share(pid):.1f} %)"
+            rows.append((f"DiffIKQP within, {s} m/s, {condition}",
+                         f">= {100 * need:.0f} %, no miss" if need else "no miss", got,
+                         missed == 0 and (need is None or _share(qp) >= need)))  # fmt: skip
+        nominal = pool.get((s, PRIMARY, "DiffIKQP", "nominal"), [])
+        if nominal:
+            median = float(np.median(np.abs([o.heading_error for o in nominal])))
+            rows.append((f"DiffIKQP median heading, {s} m/s, nominal", f"<= {TARGET_MEDIAN} deg",
+                         f"{median:.3f} deg", median <= TARGET_MEDIAN))  # fmt: skip
+    lower = [
+        f"{key[0]} m/s {key[3]}"
+        for key, items in pool.items()
+        if key[1] == PRIMARY and key[2] == "DiffIKQP"
+        and _share(items) < _share(pool.get((key[0], key[1], "PseudoInversePID", key[3]), []))
+    ]  # fmt: skip
+    rows.append(("DiffIKQP share never below PID's", "in no condition",
+                 ", ".join(lower) or "below in none", not lower))  # fmt: skip
+    for label, items in paddle.items():
+        share = sum(o.hit and abs(o.heading_error) <= physics.HEADING_TOLERANCE for o in items)
+        share /= len(items)
+        rows.append((f"paddle {label} within 0.5 deg of the normal",
+                     f">= {100 * TARGET_PADDLE:.0f} %", f"{100 * share:.1f} %",
+                     share >= TARGET_PADDLE))  # fmt: skip
+    lines = ["| target | wanted | this run | met |", "|---|---|---|---|"]
+    lines += [f"| {a} | {b} | {c} | {'yes' if ok else 'NO'} |" for a, b, c, ok in rows]
+    return lines
+
+
+def draw_plots(
+    pool: dict[Key, list[physics.Outcome]], speeds: tuple[float, ...],
+    conditions: tuple[str, ...], folder: Path,
+) -> list[Path]:  # fmt: skip
+    """``outcome_paths.png`` and ``outcome_heading.png`` into ``folder``; the paths written."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    s = f"{max(speeds):g}"
+    paths = {
+        label: pool[(s, PRIMARY, label, "nominal" if label != "plan alone" else "-")]
+        for label in ("plan alone", *CONTROLLERS)
+        if (s, PRIMARY, label, "nominal" if label != "plan alone" else "-") in pool
+    }
+    written = []
+    figure = physics.plot_ball_paths(paths)
+    figure.suptitle(f"Where the balls went: {PRIMARY} plans at {s} m/s, nominal, from above")
+    written.append(folder / "outcome_paths.png")
+    figure.savefig(written[-1], dpi=100)
+    plt.close(figure)
+    columns = min(len(conditions), 3)
+    rows = -(-len(conditions) // columns)
+    figure, axes = plt.subplots(rows, columns, figsize=(4.6 * columns, 3.8 * rows), squeeze=False)
+    for ax, condition in zip(axes.flat, conditions, strict=False):
+        groups = {
+            label: [o for speed in speeds for o in pool.get((f"{speed:g}", PRIMARY, label,
+                                                              condition), [])]
+            for label in CONTROLLERS
+        }  # fmt: skip
+        physics.plot_heading_errors(
+            {k: v for k, v in groups.items() if v}, ax=ax, title=f"{condition}"
+        )
+    for ax in list(axes.flat)[len(conditions) :]:
+        ax.set_visible(False)
+    figure.suptitle(f"|heading error| of {PRIMARY} plans tracked on MuJoCo, all speeds")
+    figure.tight_layout()
+    written.append(folder / "outcome_heading.png")
+    figure.savefig(written[-1], dpi=100)
+    plt.close(figure)
+    return written
+
+
+def _arguments(argv: list[str] | None):
+    def extra(parser) -> None:
+        parser.add_argument(
+            "--others",
+            type=int,
+            default=None,
+            help="shots per speed on which the other planners are tracked (default: all)",
+        )
+        parser.add_argument("--paddle", type=int, default=50, help="paddle strikes")
+        parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,
+                            help="processes (1: in this one)")  # fmt: skip
+
+    args = shot_arguments(argv, __doc__, default=100, quick=1, out=RESULTS / "outcome.md",
+                          extra=extra)  # fmt: skip
+    if args.others is None:
+        args.others = args.shots
+    if args.quick:
+        args.others, args.paddle, args.workers = 0, 1, 1
+    for name in ("others", "paddle", "workers"):
+        minimum = 1 if name == "workers" else 0
+        if getattr(args, name) < minimum:
+            raise SystemExit(f"--{name} must be >= {minimum}, got {getattr(args, name)}")
+    return args
+
+
+def _command(args) -> str:
+    """The command line that reproduces this run."""
+    if args.quick:
+        return "python benchmarks/outcome.py --quick"
+    words = ["python benchmarks/outcome.py", f"--shots {args.shots}"]
+    if args.others != args.shots:
+        words.append(f"--others {args.others}")
+    if args.paddle != 50:
+        words.append(f"--paddle {args.paddle}")
+    return " ".join(words)
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _arguments(argv)
+    quick = args.quick
+    speeds = SPEEDS[1:] if quick else SPEEDS
+    conditions = CONDITIONS[:1] + CONDITIONS[2:3] if quick else CONDITIONS
+    everyone = tuple(name for name, _, _ in _planners())
+    _base(args.shots)  # drawn once here; forked workers inherit it
+    cases = [
+        (speed, index, args.shots, everyone if index < args.others else (PRIMARY,), conditions)
+        for speed in speeds
+        for index in range(args.shots)
+    ]
+    results: dict[tuple[float, int], tuple[list[tuple[Key, physics.Outcome]], list[str]]] = {}
+    paddle: dict[str, list[physics.Outcome]] = {}
+    total = len(cases) + (1 if args.paddle else 0)
+    label = f"outcome: {len(cases)} shots"
+    progress(0, total, label)
+    if args.workers == 1:
+        for done, case in enumerate(cases, 1):
+            results[case[:2]] = pool_case(*case)
+            progress(done, total, label)
+        paddle = paddle_cases(args.paddle) if args.paddle else {}
+    else:
+        context = multiprocessing.get_context("fork")
+        with ProcessPoolExecutor(args.workers, mp_context=context) as executor:
+            futures = {}
+            if args.paddle:
+                futures[executor.submit(paddle_cases, args.paddle)] = None
+            futures.update({executor.submit(pool_case, *case): case[:2] for case in cases})
+            for done, future in enumerate(as_completed(futures), 1):
+                key = futures[future]
+                if key is None:
+                    paddle = future.result()
+                else:
+                    results[key] = future.result()
+                progress(done, total, label)
+    progress(total, total, label)
+    pool: dict[Key, list[physics.Outcome]] = defaultdict(list)
+    failed: dict[str, int] = defaultdict(int)
+    early: dict[str, int] = defaultdict(int)
+    for case in cases:  # in shot order, whatever order the workers finished in
+        found, notes = results[case[:2]]
+        for key, outcome in found:
+            pool[key].append(outcome)
+        for note in notes:
+            if note.endswith(" early"):
+                early[note.removesuffix(" early")] += 1
+            else:
+                failed[note] += 1
+    lines = [
+        "# Strike outcome: where the ball goes",
+        "",
+        f"Command: `{_command(args)}`"
+        f" ({args.shots} random Sawyer shots per speed, every plan alone; {PRIMARY} tracked "
+        f"on all of them, the other planners on the first {args.others}; plans within "
+        f"{PLAN_MARGIN:g} of the limits except the seed's, MuJoCo plant at 1 kHz).",
+        "",
+        "## Targets",
+        "",
+        *_targets(pool, paddle, speeds, conditions, early),
+        "",
+        "## Every planner, controller and condition",
+        "",
+        "| speed [m/s] | planner | controller | condition | hit | within 0.5 deg, 2 % | heading "
+        "error median / p95 [deg] | speed error median / p95 [%] |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    order = {name: k for k, name in enumerate(everyone)}
+    for key in sorted(pool, key=lambda k: (k[0], order[k[1]])):
+        lines.append(_row(key, pool[key]))
+    lines += [
+        "",
+        "Plans that failed: " + (", ".join(f"{k} {v}" for k, v in failed.items()) or "none"),
+    ]
+    if paddle:
+        lines += ["", "## Paddle strikes (paddle4, min-time OCP, nominal)", ""]
+        lines += [
+            "| controller | hit | within 0.5 deg of the normal, 2 % | heading error median / p95 "
+            "[deg] | speed error median / p95 [%] |",
+            "|---|---|---|---|---|",
+        ]
+        lines += [_row((name,), outcomes) for name, outcomes in paddle.items()]
+    write_report(lines, args.out)
+    for path in draw_plots(pool, speeds, conditions, args.out.parent):
+        print(f"wrote {path}")
+    return 0
 
 
 if __name__ == "__main__":

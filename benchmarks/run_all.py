@@ -1,7 +1,8 @@
 """Every benchmark in one run: time-optimal profiles, pool strikes, tracking; tables and plots.
 
-Runs ``time_optimal.py``, ``strike.py`` and ``tracking.py`` (each writes its Markdown table
-into the output folder), then draws the plots (PNG) of the pool shot:
+Runs ``time_optimal.py``, ``strike.py``, ``tracking.py`` and ``outcome.py`` (each writes its
+Markdown table into the output folder; ``outcome.py`` also draws ``outcome_paths.png`` and
+``outcome_heading.png``), then draws the plots (PNG) of the pool shot:
 
 * ``profiles.png``: the busiest joint of a Sawyer move by every joint-space planner;
 * ``strike_speed.png``: the cue tip speed of every strike planner that plans the shot;
@@ -148,6 +149,16 @@ def results_section(out: Path, plots: Path) -> str:
             "",
             f"![The pseudo-inverse and the QP following the minimum-time strike]({plots}/"
             "tracking.png)",
+            "",
+            f"**Where the ball goes** (`{cite['outcome']}`; every planner, controller and "
+            "condition in `benchmarks/results/outcome.md`): the issue's targets against this run,",
+            "",
+            first_table(read["outcome"], "## Targets"),
+            "",
+            f"![Balls seen from above, tracked by each controller]({plots}/outcome_paths.png)",
+            "",
+            f"![Heading-error distribution per controller and condition]({plots}/"
+            "outcome_heading.png)",
             "",
             f"**Durations against the lower bound** (`{cite['time_optimal']}`; details in "
             "`benchmarks/results/time_optimal.md`):",

@@ -4,7 +4,9 @@ It prints every robot's joints, limits and tool pose at home, reproduces the ECE
 paddle table, shows the independent checker's verdict on classic plans, then plans the Sawyer
 pool shot at 1 m/s with every strike planner, checks each plan, tracks the minimum-time
 optimal-control plan (planned within 80 % of the limits) with the seed's pseudo-inverse PID and
-the differential-IK QP, and writes plots (PNG) and plans (JSON) to the output directory.
+the differential-IK QP, strikes the ball with the plan alone and with each controller in a
+MuJoCo world (where the ball went), and writes plots (PNG) and plans (JSON) to the output
+directory.
 
 Everything heavy is imported inside the functions, so that ``import optraj`` stays cheap.
 """
@@ -275,7 +277,52 @@ def _tracking(problem: Any, files: dict[str, Any], progress: Any, out: TextIO) -
             f"{command.count:>15d}{command.worst:>15.3f}{metrics.step_time_median * 1e6:>13.1f}\n"
         )
         runs.append(result)
+    progress("striking the ball in MuJoCo")
+    _where_the_ball_went(problem, traj, out)
     return runs
+
+
+def _signed(value: float, digits: int = 3) -> str:
+    """``value`` with its sign, never ``-0.000``."""
+    return f"{round(value, digits) + 0.0:+.{digits}f}"
+
+
+def _where_the_ball_went(problem: Any, traj: Any, out: TextIO) -> None:
+    """The plan alone and each controller on the MuJoCo plant: where the ball went."""
+    import controllers
+    import physics
+
+    robot = problem.robot
+    scene = physics.scene_for(problem)
+    x, y, z = problem.ball
+    out.write(
+        f"\nwhere the ball went (MuJoCo: cue on a pool ball at ({x:.3f}, {y:.3f}, {z:.3f}) m, "
+        f"on target = within {physics.HEADING_TOLERANCE:g} deg and "
+        f"{100 * physics.SPEED_TOLERANCE:g} % of the shot)\n"
+        f"  {'run':<22}{'heading':>9}{'speed':>8}{'ball speed':>12}{'rest position':>24}"
+        "  verdict\n"
+        f"  {'':<22}{'[deg]':>9}{'[%]':>8}{'[m/s]':>12}{'x, y [m]':>24}\n"
+    )
+    runs = [("plan alone", lambda: physics.replay(scene, traj))]
+    for controller in (controllers.PseudoInversePID(robot), controllers.DiffIKQP(robot)):
+        runs.append(
+            (
+                controller.name,
+                lambda c=controller: controllers.simulate(
+                    robot, traj, c, plant=physics.MujocoPlant(scene), settle=0.05
+                ),
+            )
+        )
+    for label, run in runs:
+        ball = physics.outcome(run(), problem)
+        if not ball.hit:
+            out.write(f"  {label:<22}{'-':>9}{'-':>8}{'-':>12}{'-':>24}  missed the ball\n")
+            continue
+        rest = f"{ball.rest_position[0]:.3f}, {ball.rest_position[1]:.3f}"
+        out.write(
+            f"  {label:<22}{_signed(ball.heading_error):>9}{_signed(100 * ball.speed_error, 2):>8}"
+            f"{ball.launch_speed:>12.3f}{rest:>24}  {'on target' if ball.within else 'OFF'}\n"
+        )
 
 
 def write_plots(

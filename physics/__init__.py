@@ -5,11 +5,13 @@
 ...                               plant=physics.MujocoPlant(scene))
 >>> physics.outcome(result, shot).summary()                     # heading and speed errors
 >>> physics.outcome(physics.replay(scene, traj), shot)          # the plan alone
+>>> physics.plot_ball_paths({"DiffIKQP": [ball]})               # seen from above
 """
 
 from physics.contact_watch import ContactWatch
 from physics.outcome import HEADING_TOLERANCE, SPEED_TOLERANCE, Outcome, outcome
 from physics.plant import MujocoPlant
+from physics.plot import plot_ball_paths, plot_heading_errors
 from physics.replay import replay, straight_cue
 from physics.scene import StrikeScene, World, paddle_scene, pool_scene, scene_for
 
@@ -23,6 +25,8 @@ __all__ = [
     "World",
     "outcome",
     "paddle_scene",
+    "plot_ball_paths",
+    "plot_heading_errors",
     "pool_scene",
     "replay",
     "scene_for",

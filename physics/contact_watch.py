@@ -84,8 +84,9 @@ class ContactWatch:
         Args:
             data: The world's data.
             duration: How long [s], > 0.
-            before_step: Called as ``before_step(data)`` before every batch of steps
-                (a kinematic tool is placed there); None for nothing.
+            before_step: Called as ``before_step(data)`` before every batch of steps (a
+                kinematic tool is placed there; far from the ball a batch spans up to half
+                of :data:`LOOKAHEAD`); None for nothing.
         """
         model = self.world.model
         scene = self.world.scene
@@ -96,8 +97,10 @@ class ContactWatch:
                 h = min(scene.fine_step, left)
                 count = max(1, min(BATCH, round(left / h)))
             else:
+                # Far from the ball a kinematic tool is only placed once per batch: where it
+                # drifts between placements touches nothing.
                 h = min(scene.step, left)
-                count = 1 if before_step is not None else max(1, round(left / h))
+                count = max(1, round(left / h))
                 # Never step past the point where fine steps should start: the lookahead
                 # covers the next LOOKAHEAD seconds only.
                 count = min(count, max(1, int(LOOKAHEAD / (2 * h))))

@@ -47,6 +47,8 @@ REST_TIME = 30.0
 ROLL_STEP = 2e-4
 #: A paddle ball's final position is taken this long after contact [s].
 FLIGHT_TIME = 0.5
+#: The roll-out's positions are kept this often [s].
+ROLL_SAMPLE = 0.02
 
 
 @dataclass(frozen=True)
@@ -70,6 +72,10 @@ class Outcome:
         rest_position: Pool: where the ball comes to rest on the table [m]; paddle: where it
             is :data:`FLIGHT_TIME` after contact on its (gravity-free) flight; shape (3,).
         path: The ball's positions over the run [m], shape (m, 3).
+        direction: The commanded launch direction (unit), shape (3,).
+        start: Where the ball was before the strike [m], shape (3,).
+        roll: Pool: the ball's positions every :data:`ROLL_SAMPLE` s from the end of the
+            run to rest [m], shape (k, 3); paddle: the run's end and ``rest_position``.
     """
 
     hit: bool
@@ -85,6 +91,9 @@ class Outcome:
     tool_speed: float
     rest_position: FloatArray
     path: FloatArray
+    direction: FloatArray
+    start: FloatArray
+    roll: FloatArray
 
     @property
     def within(self) -> bool:
@@ -129,6 +138,7 @@ def outcome(run: Result | dict[str, Any], problem: PoolStrike | PaddleStrike) ->
     direction, speed = _commanded(problem)
     scene: StrikeScene = record["scene"]
     path = np.asarray(record["ball"], dtype=float)[:, :3]
+    start = np.asarray(scene.ball, dtype=float).copy()
     if int(record["contacts"]) == 0 or not np.isfinite(record["launch"]).all():
         return Outcome(
             hit=False,
@@ -142,8 +152,11 @@ def outcome(run: Result | dict[str, Any], problem: PoolStrike | PaddleStrike) ->
             ideal_speed=0.0,
             effective_mass=0.0,
             tool_speed=0.0,
-            rest_position=np.asarray(scene.ball, dtype=float).copy(),
+            rest_position=start.copy(),
             path=path,
+            direction=direction.copy(),
+            start=start,
+            roll=start[None, :].copy(),
         )
     launch = np.asarray(record["launch"], dtype=float)
     inverse = np.asarray(record["inverse_inertia"], dtype=float)
@@ -151,6 +164,7 @@ def outcome(run: Result | dict[str, Any], problem: PoolStrike | PaddleStrike) ->
     ideal = straight_cue(scene, direction, speed, tool_mass=mass)
     ideal_speed = _speed(scene, np.asarray(ideal["launch"]))
     launch_speed = _speed(scene, launch)
+    roll = _rest(scene, record)
     return Outcome(
         hit=True,
         contacts=int(record["contacts"]),
@@ -163,8 +177,11 @@ def outcome(run: Result | dict[str, Any], problem: PoolStrike | PaddleStrike) ->
         ideal_speed=ideal_speed,
         effective_mass=mass,
         tool_speed=float(np.asarray(record["tool_velocity"]) @ direction),
-        rest_position=_rest(scene, record),
+        rest_position=roll[-1].copy(),
         path=path,
+        direction=direction.copy(),
+        start=start,
+        roll=roll,
     )
 
 
@@ -198,12 +215,15 @@ def _heading(scene: StrikeScene, launch: FloatArray, direction: FloatArray) -> f
 
 
 def _rest(scene: StrikeScene, record: dict[str, Any]) -> FloatArray:
-    """Roll the ball out alone (pool) or fly it on (paddle) from its state at the end."""
+    """The ball rolled out alone (pool) or flown on (paddle) from its state at the end.
+
+    Returns its positions from the end of the run to rest (the last row), shape (k, 3).
+    """
     qpos = np.asarray(record["ball_qpos"], dtype=float)
     qvel = np.asarray(record["ball_qvel"], dtype=float)
     if scene.kind == "paddle":
         elapsed = float(record["time"][-1]) - float(record["contact_end"])
-        return qpos[:3] + qvel[:3] * max(FLIGHT_TIME - elapsed, 0.0)
+        return np.stack([qpos[:3], qpos[:3] + qvel[:3] * max(FLIGHT_TIME - elapsed, 0.0)])
     world = scene.as_kinematic().build()
     model, data = world.model, mujoco.MjData(world.model)
     data.qpos[world.tool_qpos : world.tool_qpos + 3] = (0.0, 0.0, 50.0)  # out of the way
@@ -211,10 +231,13 @@ def _rest(scene: StrikeScene, record: dict[str, Any]) -> FloatArray:
     data.qpos[world.ball_qpos : world.ball_qpos + 7] = qpos
     data.qvel[world.ball_dof : world.ball_dof + 6] = qvel
     model.opt.timestep = ROLL_STEP
-    chunk = 500  # 0.1 s
-    for _ in range(int(REST_TIME / (chunk * model.opt.timestep))):
+    chunk = round(ROLL_SAMPLE / ROLL_STEP)
+    ball = slice(world.ball_qpos, world.ball_qpos + 3)
+    positions = [np.array(data.qpos[ball])]
+    for _ in range(int(REST_TIME / ROLL_SAMPLE)):
         mujoco.mj_step(model, data, nstep=chunk)
+        positions.append(np.array(data.qpos[ball]))
         speed = np.linalg.norm(data.qvel[world.ball_dof : world.ball_dof + 3])
         if speed < REST_SPEED:
             break
-    return np.array(data.qpos[world.ball_qpos : world.ball_qpos + 3])
+    return np.stack(positions)

@@ -33,7 +33,7 @@ from planners.contact import choose_contact
 from planners.ruckig_planner import state_to_state, stop
 from planners.time_scaling import rate_limit_error, worst_rate_limit
 from planners.toppra_planner import Toppra
-from planners.trajectory import Trajectory
+from planners.trajectory import Trajectory, TrajectorySample
 from problems import PaddleStrike, PoolStrike
 from robots import JointLimits, Robot, solve_ik
 
@@ -57,6 +57,14 @@ _LIMITED: dict[str, tuple[str, ...]] = {
     "ruckig": ("velocity", "acceleration", "jerk"),
     "toppra": ("velocity", "acceleration"),
 }
+#: A pool approach keeps the tool point this far off the ball's surface [m] (a cue tip's
+#: diameter and some room); at most half the run-up.
+BALL_CLEARANCE = 0.02
+#: An approach that would pass closer goes through a rest pose this far behind the line's
+#: entry [m], from where the cue moves in along the line.
+RETREAT = 0.10
+#: Samples of an approach checked for the clearance.
+_CLEARANCE_SAMPLES = 400
 
 #: Where a pool strike's contact configuration comes from (:func:`contact_configuration`).
 CONTACTS: tuple[str, ...] = ("problem", "choose")
@@ -164,21 +172,50 @@ class TimeOptimalStrike:
         check_line(line, problem.robot, limits, _LIMITED[self.approach], float(problem.speed))
         entry = line.sample(0.0)
         exit_state = line.sample(line.duration)
-        zeros = np.zeros(limits.n)
-        if self.approach == "ruckig":
-            approach = state_to_state(
-                problem.q_start, zeros, zeros, entry.q, entry.qd, entry.qdd, limits
-            )
-        else:
-            approach = self._toppra_approach(
-                problem.q_start, entry.q, entry.qd, problem.robot, limits
-            )
+        approach = [self._pool_approach(problem.q_start, entry, problem.robot, limits)]
+        clearance = min(BALL_CLEARANCE, 0.5 * float(problem.run_up))
+        if _ball_gap(problem, approach) < clearance:
+            # The joint-space move sweeps the tool through the ball: come in from behind.
+            q_via = _retreat(problem, entry.q)
+            approach = [
+                self._rest_to_rest(problem.q_start, q_via, problem.robot, limits),
+                self._pool_approach(q_via, entry, problem.robot, limits),
+            ]
+            gap = _ball_gap(problem, approach)
+            if gap < clearance:
+                raise InfeasibleError(
+                    f"the approach passes {gap * 1e3:.1f} mm from the ball's surface, less "
+                    f"than the {clearance * 1e3:.1f} mm clearance, even through a rest pose "
+                    f"{RETREAT:g} m behind the strike line",
+                    limit="clearance",
+                )
         brake = stop(exit_state.q, exit_state.qd, exit_state.qdd, limits)
         traj = Trajectory.sequence(
-            [("approach", [approach]), ("strike", [line]), ("stop", [brake])],
+            [("approach", approach), ("strike", [line]), ("stop", [brake])],
             joint_names=limits.names,
         )
-        return traj, {"approach_line_gap": _approach_gap(problem, approach), **extra}
+        report = {
+            "approach_line_gap": _approach_gap(problem, approach[-1]),
+            "approach_retreat": len(approach) == 2,
+        }
+        return traj, {**report, **extra}
+
+    def _pool_approach(
+        self, q_from: FloatArray, entry: TrajectorySample, robot: Robot, limits: JointLimits
+    ) -> Trajectory:
+        """From rest at ``q_from`` to the line's entry state (Ruckig or TOPPRA)."""
+        zeros = np.zeros(limits.n)
+        if self.approach == "ruckig":
+            return state_to_state(q_from, zeros, zeros, entry.q, entry.qd, entry.qdd, limits)
+        return self._toppra_approach(q_from, entry.q, entry.qd, robot, limits)
+
+    def _rest_to_rest(
+        self, q_from: FloatArray, q_to: FloatArray, robot: Robot, limits: JointLimits
+    ) -> Trajectory:
+        zeros = np.zeros(limits.n)
+        if self.approach == "ruckig":
+            return state_to_state(q_from, zeros, zeros, q_to, zeros, zeros, limits)
+        return Toppra().time_parametrize(np.array([q_from, q_to]), limits, robot=robot)
 
     def _toppra_approach(
         self,
@@ -321,6 +358,26 @@ def check_line(
     worst = worst_rate_limit(peaks, limits, quantities, _RATE_SLACK)
     if worst is not None:
         raise rate_limit_error(worst, limits, subject, " (at its contact configuration)")
+
+
+def _ball_gap(problem: PoolStrike, pieces: list[Trajectory]) -> float:
+    """Closest the tool point comes to the ball's surface over the approach pieces [m]."""
+    robot = problem.robot
+    ball = np.asarray(problem.ball)
+    gap = np.inf
+    for piece in pieces:
+        times = np.linspace(0.0, piece.duration, _CLEARANCE_SAMPLES)
+        points = robot.tool_position(piece.sample(times).q)
+        gap = min(gap, float(np.min(np.linalg.norm(points - ball, axis=1))))
+    return gap - float(problem.ball_radius)
+
+
+def _retreat(problem: PoolStrike, q_entry: FloatArray) -> FloatArray:
+    """A configuration with the tool at the entry pose moved :data:`RETREAT` back."""
+    robot = problem.robot
+    pose = robot.tool_pose(q_entry).copy()
+    pose[:3, 3] -= RETREAT * np.asarray(problem.direction)
+    return solve_ik(robot, pose, q_near=q_entry, restarts=20).q
 
 
 def _approach_gap(problem: PoolStrike, approach: Trajectory) -> float:

@@ -140,6 +140,7 @@ def test_tracking_quick_run_writes_its_tables(tmp_path, monkeypatch):
 
 def test_run_all_runs_each_benchmark_draws_the_plots_and_rewrites_the_readme(tmp_path, monkeypatch):
     module = _load("run_all", monkeypatch)
+    module_names = ["time_optimal", "strike", "tracking", "outcome"]
     calls = []
 
     def fake(name):
@@ -150,28 +151,28 @@ def test_run_all_runs_each_benchmark_draws_the_plots_and_rewrites_the_readme(tmp
                 f"# {name}\n\nCommand: `python benchmarks/{name}.py --quick`\n\n"
                 f"| a | b |\n|---|---|\n| {name} | 1 |\n\n## Durations\n\n"
                 f"| c |\n|---|\n| {name} durations |\n\n## Controller time per step\n\n"
-                f"| d |\n|---|\n| {name} timing |\n"
+                f"| d |\n|---|\n| {name} timing |\n\n## Targets\n\n"
+                f"| e |\n|---|\n| {name} targets |\n"
             )
             return 0
 
         return main
 
-    monkeypatch.setattr(
-        module, "BENCHMARKS", [(n, fake(n), []) for n in ("time_optimal", "strike", "tracking")]
-    )
+    monkeypatch.setattr(module, "BENCHMARKS", [(n, fake(n), []) for n in module_names])
     readme = tmp_path / "README.md"
     readme.write_text(f"# optraj\n\nbefore\n\n{module.BEGIN}\nstale\n{module.END}\n\nafter\n")
     monkeypatch.setattr(module, "README", readme)
     out = tmp_path / "results"
     assert module.main(["--quick", "--out", str(out), "--readme"]) == 0
-    assert [name for name, _ in calls] == ["time_optimal", "strike", "tracking"]
+    assert [name for name, _ in calls] == module_names
     assert all("--quick" in argv for _, argv in calls)
     for name in ("profiles.png", "strike_speed.png", "tracking.png"):
         assert (out / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     text = readme.read_text()
     assert "stale" not in text and text.startswith("# optraj\n\nbefore") and "after" in text
     assert "| strike | 1 |" in text and "| tracking timing |" in text
-    assert "| time_optimal durations |" in text
+    assert "| time_optimal durations |" in text and "| outcome targets |" in text
+    assert "/outcome_paths.png)" in text and "/outcome_heading.png)" in text
     assert f"]({out.resolve()}/tracking.png)" in text  # outside the repository: absolute
 
 
@@ -197,3 +198,14 @@ def test_outcome_quick_run_judges_every_strike_by_the_ball(tmp_path, monkeypatch
     assert rows[("1", "min-time OCP", "plan alone", "-")][5].startswith("1/1")
     assert rows[("1", "min-time OCP", "DiffIKQP", "nominal")][5].startswith("1/1")
     assert "| DiffIKQP | 1/1 | 1/1" in text.split("## Paddle")[1]
+    targets = {
+        cells[0]: cells
+        for line in text.split("## Targets")[1].split("## Every")[0].splitlines()
+        if line.startswith("| ") and not line.startswith(("| target", "|---"))
+        for cells in [[c.strip() for c in line.strip("|").split("|")]]
+    }
+    assert targets["min-time OCP alone within"][1:] == ["100 %", "100.0 %", "yes"]
+    assert targets["DiffIKQP within, 1 m/s, nominal"][-1] == "yes"
+    assert targets["paddle DiffIKQP within 0.5 deg of the normal"][-1] == "yes"
+    for name in ("outcome_paths.png", "outcome_heading.png"):
+        assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -148,6 +148,19 @@ def test_demo_tracks_the_plan_with_both_controllers(demo):
             assert count == 0 and worst <= 1.0
 
 
+def test_demo_says_where_the_ball_went_for_each_tracked_plan(demo):
+    _, text, _ = demo
+    section = text.split("where the ball went (MuJoCo")[1]
+    for label in ("plan alone", "pseudo-inverse PID", "differential-IK QP"):
+        row = _row(section, label)
+        assert row.endswith("on target"), row
+        heading, speed, launch = map(float, row.split()[-7:-4])
+        assert abs(heading) <= 0.5 and abs(speed) <= 2.0  # [deg], [%]
+        # [m/s] (1 + e) x 1 m/s from the plan alone's rigid cue, less from the arm's (about
+        # 2 kg effective mass)
+        assert 1.5 < launch < 1.85
+
+
 def test_demo_writes_plots_and_plans_that_check(demo, capsys):
     _, text, out_dir = demo
     plans = ["plan-seed.json", "plan-optimal-control.json", "plan-optimal-control-tracked.json"]

@@ -36,6 +36,11 @@ def test_a_tracked_pool_shot_sends_the_ball_on_its_line(shot, plan):
     # the ball rolls out along +x and stays on the table
     assert outcome.rest_position[0] > shot.ball[0]
     assert abs(outcome.rest_position[2] - shot.ball[2]) < 1e-3
+    # the roll-out ends where the ball rests, from where the run left it
+    np.testing.assert_array_equal(outcome.roll[-1], outcome.rest_position)
+    np.testing.assert_allclose(outcome.roll[0], outcome.path[-1])
+    np.testing.assert_array_equal(outcome.start, shot.ball)
+    np.testing.assert_array_equal(outcome.direction, shot.direction)
 
 
 def test_outcomes_are_deterministic_for_a_seed(shot, plan):
@@ -51,6 +56,7 @@ def test_a_ball_that_is_never_touched_is_a_miss(shot, plan):
     assert not outcome.hit and not outcome.within
     assert outcome.heading_error == np.inf
     assert "missed" in outcome.summary()
+    np.testing.assert_array_equal(outcome.roll, [outcome.start])  # it never moved
 
 
 def test_outcome_needs_a_mujoco_record(shot, plan):

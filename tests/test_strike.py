@@ -40,6 +40,24 @@ def test_ruckig_pool_strikes_pass_the_checker_or_say_why():
     assert planned >= 4
 
 
+@pytest.mark.parametrize("approach", ["ruckig", "toppra"])
+def test_pool_approach_keeps_the_tool_off_the_ball_until_the_strike_line(approach):
+    retreated = 0
+    for problem in _shots(8, speed=0.5):
+        try:
+            traj = TimeOptimalStrike(approach).plan(problem)
+        except InfeasibleError:
+            continue
+        retreated += bool(traj.metadata["approach_retreat"])
+        t = np.arange(0.0, traj.phase("strike").t_start, 1e-3)
+        points = problem.robot.tool_position(traj.sample(t).q)
+        gap = np.linalg.norm(points - np.asarray(problem.ball), axis=1) - problem.ball_radius
+        assert gap.min() >= 0.0199, f"the tool comes {gap.min() * 1e3:.1f} mm off the ball"
+    # Some of these balls lie in the way of Ruckig's direct joint-space move (the first
+    # does); TOPPRA's path comes in along the line's tangent and needs no detour here.
+    assert retreated >= (1 if approach == "ruckig" else 0)
+
+
 def test_toppra_approach_enters_at_speed_with_an_acceleration_step():
     problem = next(_shots(1, speed=0.5))
     traj = TimeOptimalStrike("toppra").plan(problem)

@@ -1,0 +1,187 @@
+"""Pictures of where the balls went: paths seen from above and heading-error distributions.
+
+>>> figure = physics.plot_ball_paths({"DiffIKQP": outcomes_qp, "PID": outcomes_pid})
+>>> figure = physics.plot_heading_errors({"DiffIKQP": outcomes_qp, "PID": outcomes_pid})
+
+Both take ``{label: [Outcome, ...]}``; pool outcomes are drawn in each shot's own table frame
+(the near cushion at x = 0, the table's long axis along x), so shots at different ball
+positions share one table outline.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from optraj.errors import InvalidInputError
+from physics.outcome import HEADING_TOLERANCE, Outcome
+from physics.scene import BALL_FROM_NEAR_END, TABLE_SIZE
+from planners.plot import pyplot
+
+__all__ = ["plot_ball_paths", "plot_heading_errors"]
+
+FloatArray = NDArray[np.float64]
+
+#: The magnified view ends where a ball comes this close to a cushion [m] (a ball's radius
+#: and some room): after a rebound, the distance off the line means nothing.
+CUSHION_MARGIN = 0.04
+
+
+def _groups(outcomes: Mapping[str, Sequence[Outcome]]) -> dict[str, list[Outcome]]:
+    if not isinstance(outcomes, Mapping) or not outcomes:
+        raise InvalidInputError(
+            "outcomes must be a non-empty {label: [physics.Outcome, ...]} mapping",
+            name="outcomes",
+        )
+    groups: dict[str, list[Outcome]] = {}
+    for label, items in outcomes.items():
+        items = list(items)
+        if not items or not all(isinstance(o, Outcome) for o in items):
+            raise InvalidInputError(
+                f"outcomes[{label!r}] must be a non-empty sequence of physics.Outcome",
+                name="outcomes",
+            )
+        groups[str(label)] = items
+    return groups
+
+
+def _table_frame(outcome: Outcome, points: FloatArray) -> FloatArray:
+    """``points`` (k, 3) in the shot's table frame: x from the near cushion, y from the side."""
+    x0 = outcome.start[0] - BALL_FROM_NEAR_END
+    y0 = outcome.start[1] - TABLE_SIZE[1] / 2
+    return np.column_stack([points[:, 0] - x0, points[:, 1] - y0])
+
+
+def _along_across(outcome: Outcome, points: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Distance along the commanded line [m] and off it [m] (left positive)."""
+    d = outcome.direction[:2] / max(float(np.linalg.norm(outcome.direction[:2])), 1e-300)
+    rel = points[:, :2] - outcome.start[:2]
+    return rel @ d, rel @ np.array([-d[1], d[0]])
+
+
+def _before_cushion(flat: FloatArray) -> int:
+    """How many leading points (table frame) lie more than :data:`CUSHION_MARGIN` inside."""
+    length, width = TABLE_SIZE
+    x, y = flat[:, 0], flat[:, 1]
+    m = CUSHION_MARGIN
+    inside = (x > m) & (x < length - m) & (y > m) & (y < width - m)
+    return int(np.argmin(inside)) if not inside.all() else len(inside)
+
+
+def plot_ball_paths(outcomes: Mapping[str, Sequence[Outcome]]) -> Any:
+    """Pool balls seen from above, one column per label; returns the figure.
+
+    Top row: the table (2.54 m x 1.27 m inside the cushions) with each ball's path from the
+    strike to rest (solid) and its commanded line (dashed grey); a missed ball is a cross.
+    Bottom row: how far each ball is off its commanded line [mm] against the distance
+    along it [m] until it nears a cushion, the same data magnified across the line.
+
+    Args:
+        outcomes: ``{label: [Outcome, ...]}`` of pool shots.
+
+    Raises:
+        InvalidInputError: An empty mapping, a non-outcome, or a paddle outcome.
+        MissingDependencyError: matplotlib is not installed.
+    """
+    groups = _groups(outcomes)
+    for label, items in groups.items():
+        if any(o.start.shape != (3,) or o.roll.shape[0] < 1 or abs(o.direction[2]) > 1e-6
+               for o in items):  # fmt: skip
+            raise InvalidInputError(
+                f"outcomes[{label!r}] holds a paddle outcome; ball paths are drawn for pool "
+                "shots (a horizontal commanded direction)",
+                name="outcomes",
+            )
+    plt = pyplot()
+    columns = len(groups)
+    figure, axes = plt.subplots(
+        2,
+        columns,
+        figsize=(4.2 * columns, 6.4),
+        squeeze=False,
+        height_ratios=[1.1, 1.0],
+        sharey="row",
+    )
+    length, width = TABLE_SIZE
+    for column, (label, items) in enumerate(groups.items()):
+        top, side = axes[0, column], axes[1, column]
+        top.add_patch(
+            plt.Rectangle((0, 0), length, width, facecolor="#1c7a45", edgecolor="#5a2d0c", lw=3)
+        )
+        missed = 0
+        for o in items:
+            start = _table_frame(o, o.start[None, :])[0]
+            reach = length + width
+            end = start + reach * o.direction[:2] / np.linalg.norm(o.direction[:2])
+            top.plot(*np.stack([start, end]).T, color="0.85", lw=0.6, ls="--", zorder=2)
+            if not o.hit:
+                missed += 1
+                top.plot(*start, marker="x", color="red", ms=7, zorder=4)
+                continue
+            points = np.concatenate([o.start[None, :], o.path, o.roll])
+            flat = _table_frame(o, points)
+            top.plot(flat[:, 0], flat[:, 1], color="white", lw=0.8, alpha=0.8, zorder=3)
+            free = _before_cushion(flat)
+            along, across = _along_across(o, points[:free])
+            side.plot(along, across * 1e3, lw=0.8, alpha=0.7)
+        top.set_xlim(-0.1, length + 0.1)
+        top.set_ylim(-0.1, width + 0.1)
+        top.set_aspect("equal")
+        title = f"{label}: {len(items)} shots" + (f", {missed} missed" if missed else "")
+        top.set_title(title, fontsize=10)
+        top.set_xlabel("x from the near cushion [m]")
+        side.axhline(0.0, color="0.3", lw=0.8, ls="--")
+        side.set_xlabel("along the commanded line [m]")
+        side.grid(alpha=0.3)
+        if column == 0:
+            top.set_ylabel("y [m]")
+            side.set_ylabel("off the line [mm] (left +)")
+    figure.suptitle("Where the balls went, seen from above")
+    figure.tight_layout()
+    return figure
+
+
+def plot_heading_errors(
+    outcomes: Mapping[str, Sequence[Outcome]], *, ax: Any = None, title: str | None = None
+) -> Any:
+    """The distribution of |heading error| per label (share of shots at or below); the figure.
+
+    Each label is a step curve on a log axis with the 0.5 deg tolerance marked; a missed
+    ball never reaches the curve's top, and the legend counts the misses.
+
+    Args:
+        outcomes: ``{label: [Outcome, ...]}``.
+        ax: Axes to draw into; a new figure when None.
+        title: The axes' title; a default when None.
+
+    Raises:
+        InvalidInputError: An empty mapping or a non-outcome.
+        MissingDependencyError: matplotlib is not installed.
+    """
+    groups = _groups(outcomes)
+    plt = pyplot()
+    if ax is None:
+        figure, ax = plt.subplots(figsize=(6.4, 4.2))
+    else:
+        figure = ax.figure
+    floor = 1e-4  # [deg] errors below this are drawn at it (a log axis has no zero)
+    for label, items in groups.items():
+        errors = np.array([abs(o.heading_error) for o in items if o.hit])
+        missed = len(items) - len(errors)
+        share = np.arange(1, len(errors) + 1) / len(items)
+        values = np.maximum(np.sort(errors), floor)
+        name = f"{label} ({missed} missed)" if missed else label
+        ax.step(np.concatenate([[floor], values]), np.concatenate([[0.0], share]), where="post",
+                label=name)  # fmt: skip
+    ax.axvline(HEADING_TOLERANCE, color="0.3", ls="--", lw=0.8, label="tolerance")
+    ax.set_xscale("log")
+    ax.set_ylim(0.0, 1.02)
+    ax.set_xlabel("|heading error| [deg]")
+    ax.set_ylabel("share of shots at or below")
+    ax.set_title(title if title is not None else "Heading error per controller", fontsize=10)
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8, loc="upper left")
+    return figure
