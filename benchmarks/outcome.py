@@ -7,7 +7,8 @@ physics.outcome: hit rate, heading and speed errors (median / p95) and the share
 
 Every plan is replayed alone for all ``--shots``; the minimum-time OCP (the README's tracked
 plan) is tracked by every controller in every condition for all of them, the other planners
-for the first ``--others`` shots of each speed (all by default). Shots run in ``--workers``
+for the first ``--others`` shots of each speed. The link-mass conditions scale each link's
+mass and inertia by a seeded draw from 1 to 1.1 (or 0.9 to 1). Shots run in ``--workers``
 processes; the outcome of a shot does not depend on how many.
 
 Writes the table to ``--out`` and, beside it, ``outcome_paths.png`` (balls from above) and
@@ -19,13 +20,15 @@ Usage: ``python benchmarks/outcome.py [--shots N] [--others N] [--paddle N] [--w
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 import functools
 import multiprocessing
 import os
 import sys
 from collections import defaultdict
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import Future, ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import Any
 
@@ -37,6 +40,9 @@ import planners
 import problems
 from benchmarking import pool_shots, progress, shot_arguments, write_report
 from optraj.errors import OptrajError
+from planners.plot import pyplot
+from planners.trajectory import Trajectory
+from robots import Robot
 
 RESULTS = Path(__file__).resolve().parent / "results"
 #: Plans use this fraction of the limits, leaving the controllers room (README).
@@ -46,10 +52,17 @@ CONDITIONS = ("nominal", "noise", "latency 2", "masses +10 %", "masses -10 %", "
 PUSH = 20.0  # [N] down on the tool for 10 ms, 50 ms before the strike window
 #: Paddle strikes: ball speed along the paddle normal [m/s].
 PADDLE_SPEED = 0.5
+#: Default counts: pool shots per speed, shots per speed on which the other planners are
+#: tracked too, paddle strikes.
+SHOTS = 100
+OTHERS = 20
+PADDLE = 50
+#: Random paddle balls drawn per wanted strike before giving up.
+PADDLE_ATTEMPTS = 20
 #: The planner every controller tracks for every shot (the others for ``--others`` shots).
 PRIMARY = "min-time OCP"
 CONTROLLERS = ("PseudoInversePID", "DiffIKQP", "JointPD")
-#: Issue targets for DiffIKQP on the primary plans: share within, by condition.
+#: Targets of issue 31 for DiffIKQP on the primary plans: share within, by condition.
 TARGET_SHARE = {"nominal": 0.99, "noise": 0.99, "latency 2": 0.95, "masses +10 %": 0.95,
                 "masses -10 %": 0.95}  # fmt: skip
 TARGET_MEDIAN = 0.05  # [deg] DiffIKQP median |heading error|, nominal
@@ -58,6 +71,7 @@ TARGET_PADDLE = 0.99
 EARLY = 1e-3
 
 Key = tuple[str, ...]
+Note = tuple[str, str, str]
 
 
 def _planners() -> list[tuple[str, Any, bool]]:
@@ -70,7 +84,7 @@ def _planners() -> list[tuple[str, Any, bool]]:
     ]
 
 
-def _controller(label: str, robot) -> controllers.Controller:
+def _controller(label: str, robot: Robot) -> controllers.Controller:
     return {
         "PseudoInversePID": controllers.PseudoInversePID,
         "DiffIKQP": controllers.DiffIKQP,
@@ -89,7 +103,9 @@ def _slim(outcome: physics.Outcome) -> physics.Outcome:
     return dataclasses.replace(outcome, path=np.concatenate([path[::25], path[-1:]]))
 
 
-def _run(shot, traj, label: str, condition: str, seed: int) -> physics.Outcome:
+def _run(
+    shot: problems.PoolStrike, traj: Trajectory, label: str, condition: str, seed: int
+) -> physics.Outcome:
     options: dict[str, Any] = {}
     scene_options: dict[str, Any] = {}
     if condition == "noise":
@@ -115,31 +131,42 @@ def pool_case(
     """One shot at one speed: every planner alone, the ``tracked`` ones by every controller.
 
     Returns ``([(key, outcome), ...], notes)``: keys are ``(speed, planner, controller or
-    "plan alone", condition or "-")``; a note is a planner that failed (its label) or whose
-    plan alone touched the ball before its strike line (``"<label> early"``).
+    "plan alone", condition or "-")``; a note is ``(planner, kind, text)`` with kind
+    ``"failed"`` (the plan raised an OptrajError), ``"early"`` (the plan alone touched the ball
+    before its strike line) or ``"error"`` (anything else raised: a defect, reported).
     """
     shot = dataclasses.replace(_base(count)[index], speed=speed)
     found: list[tuple[Key, physics.Outcome]] = []
-    failed: list[str] = []
+    notes: list[Note] = []
     for name, planner, margin in _planners():
         roomy = shot.robot.limits.scaled(PLAN_MARGIN)
         problem = dataclasses.replace(shot, limits=roomy) if margin else shot
         try:
             traj = planner.plan(problem)
-        except OptrajError:
-            failed.append(name)
+        except OptrajError as exc:
+            notes.append((name, "failed", type(exc).__name__))
             continue
-        alone = physics.outcome(physics.replay(physics.scene_for(shot), traj), shot)
-        found.append(((f"{speed:g}", name, "plan alone", "-"), _slim(alone)))
-        if alone.hit and alone.contact_time < traj.phase("strike").t_start - EARLY:
-            failed.append(f"{name} early")
-        if name not in tracked:
+        except Exception as exc:  # a defect: reported in the table, the run goes on
+            notes.append((name, "error", f"shot {index} at {speed:g} m/s: {_reason(exc)}"))
             continue
-        for label in CONTROLLERS:
-            for condition in conditions:
-                outcome = _run(shot, traj, label, condition, seed=index)
-                found.append(((f"{speed:g}", name, label, condition), outcome))
-    return found, failed
+        try:
+            alone = physics.outcome(physics.replay(physics.scene_for(shot), traj), shot)
+            found.append(((f"{speed:g}", name, "plan alone", "-"), _slim(alone)))
+            if alone.hit and alone.contact_time < traj.phase("strike").t_start - EARLY:
+                notes.append((name, "early", f"shot {index} at {speed:g} m/s"))
+            if name not in tracked:
+                continue
+            for label in CONTROLLERS:
+                for condition in conditions:
+                    outcome = _run(shot, traj, label, condition, seed=index)
+                    found.append(((f"{speed:g}", name, label, condition), outcome))
+        except Exception as exc:  # a defect: reported in the table, the run goes on
+            notes.append((name, "error", f"shot {index} at {speed:g} m/s: {_reason(exc)}"))
+    return found, notes
+
+
+def _reason(exc: BaseException) -> str:
+    return f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}"[:160]
 
 
 def paddle_cases(count: int) -> dict[str, list[physics.Outcome]]:
@@ -148,8 +175,11 @@ def paddle_cases(count: int) -> dict[str, list[physics.Outcome]]:
     robot = problems.seed_paddle_strike().robot
     found: dict[str, list[physics.Outcome]] = defaultdict(list)
     planner = planners.OptimalControl("time")
-    made = 0
+    made = attempts = 0
     while made < count:
+        attempts += 1
+        if attempts > PADDLE_ATTEMPTS * count:
+            raise RuntimeError(f"only {made} of {count} random paddle strikes planned")
         ball = (rng.uniform(0.5, 1.0), rng.uniform(-0.5, 0.5), rng.uniform(0.1, 0.6))
         try:
             strike = problems.PaddleStrike(robot, ball=ball, speed=PADDLE_SPEED)
@@ -244,84 +274,152 @@ def _targets(
 
 
 def draw_plots(
-    pool: dict[Key, list[physics.Outcome]], speeds: tuple[float, ...],
-    conditions: tuple[str, ...], folder: Path,
-) -> list[Path]:  # fmt: skip
-    """``outcome_paths.png`` and ``outcome_heading.png`` into ``folder``; the paths written."""
+    pool: dict[Key, list[physics.Outcome]],
+    speeds: tuple[float, ...],
+    conditions: tuple[str, ...],
+    folder: Path,
+) -> list[Path]:
+    """``outcome_paths.png`` and ``outcome_heading.png`` into ``folder``; the paths written.
+
+    A figure without data (no primary plan at the top speed) is left out.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     s = f"{max(speeds):g}"
-    paths = {
-        label: pool[(s, PRIMARY, label, "nominal" if label != "plan alone" else "-")]
-        for label in ("plan alone", *CONTROLLERS)
-        if (s, PRIMARY, label, "nominal" if label != "plan alone" else "-") in pool
-    }
+    keys = {label: (s, PRIMARY, label, "-" if label == "plan alone" else "nominal")
+            for label in ("plan alone", *CONTROLLERS)}  # fmt: skip
+    paths = {label: pool[key] for label, key in keys.items() if pool.get(key)}
     written = []
-    figure = physics.plot_ball_paths(paths)
-    figure.suptitle(f"Where the balls went: {PRIMARY} plans at {s} m/s, nominal, from above")
-    written.append(folder / "outcome_paths.png")
-    figure.savefig(written[-1], dpi=100)
-    plt.close(figure)
-    columns = min(len(conditions), 3)
-    rows = -(-len(conditions) // columns)
-    figure, axes = plt.subplots(rows, columns, figsize=(4.6 * columns, 3.8 * rows), squeeze=False)
-    for ax, condition in zip(axes.flat, conditions, strict=False):
+    if paths:
+        figure = physics.plot_ball_paths(paths)
+        figure.suptitle(f"Where the balls went: {PRIMARY} plans at {s} m/s, nominal, from above")
+        written.append(folder / "outcome_paths.png")
+        figure.savefig(written[-1], dpi=100)
+        plt.close(figure)
+    panels = {}
+    for condition in conditions:
         groups = {
-            label: [o for speed in speeds for o in pool.get((f"{speed:g}", PRIMARY, label,
-                                                              condition), [])]
+            label: [o for v in speeds for o in pool.get((f"{v:g}", PRIMARY, label, condition), [])]
             for label in CONTROLLERS
-        }  # fmt: skip
-        physics.plot_heading_errors(
-            {k: v for k, v in groups.items() if v}, ax=ax, title=f"{condition}"
+        }
+        if any(groups.values()):
+            panels[condition] = {k: v for k, v in groups.items() if v}
+    if panels:
+        columns = min(len(panels), 3)
+        rows = -(-len(panels) // columns)
+        figure, axes = plt.subplots(
+            rows, columns, figsize=(4.6 * columns, 3.8 * rows), squeeze=False
         )
-    for ax in list(axes.flat)[len(conditions) :]:
-        ax.set_visible(False)
-    figure.suptitle(f"|heading error| of {PRIMARY} plans tracked on MuJoCo, all speeds")
-    figure.tight_layout()
-    written.append(folder / "outcome_heading.png")
-    figure.savefig(written[-1], dpi=100)
-    plt.close(figure)
+        for ax, (condition, groups) in zip(axes.flat, panels.items(), strict=False):
+            physics.plot_heading_errors(groups, ax=ax, title=condition)
+        for ax in list(axes.flat)[len(panels) :]:
+            ax.set_visible(False)
+        figure.suptitle(f"|heading error| of {PRIMARY} plans tracked on MuJoCo, all speeds")
+        figure.tight_layout()
+        written.append(folder / "outcome_heading.png")
+        figure.savefig(written[-1], dpi=100)
+        plt.close(figure)
     return written
 
 
-def _arguments(argv: list[str] | None):
-    def extra(parser) -> None:
+def _arguments(argv: list[str] | None) -> argparse.Namespace:
+    def extra(parser: argparse.ArgumentParser) -> None:
         parser.add_argument(
             "--others",
             type=int,
             default=None,
-            help="shots per speed on which the other planners are tracked (default: all)",
+            help=f"shots per speed on which the other planners are tracked (default {OTHERS})",
         )
-        parser.add_argument("--paddle", type=int, default=50, help="paddle strikes")
-        parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,
-                            help="processes (1: in this one)")  # fmt: skip
+        parser.add_argument("--paddle", type=int, default=None,
+                            help=f"paddle strikes (default {PADDLE})")  # fmt: skip
+        parser.add_argument("--workers", type=int, default=None,
+                            help="processes, 1: in this one (default: the CPUs)")  # fmt: skip
 
-    args = shot_arguments(argv, __doc__, default=100, quick=1, out=RESULTS / "outcome.md",
+    args = shot_arguments(argv, __doc__, default=SHOTS, quick=1, out=RESULTS / "outcome.md",
                           extra=extra)  # fmt: skip
-    if args.others is None:
-        args.others = args.shots
-    if args.quick:
-        args.others, args.paddle, args.workers = 0, 1, 1
-    for name in ("others", "paddle", "workers"):
+    # --quick: one shot at 1 m/s, two conditions, one paddle strike, in this process.
+    defaults = {"others": 0, "paddle": 1, "workers": 1} if args.quick else {
+        "others": OTHERS, "paddle": PADDLE, "workers": _cpus()}  # fmt: skip
+    for name, default in defaults.items():
+        if getattr(args, name) is None:
+            setattr(args, name, default)
         minimum = 1 if name == "workers" else 0
         if getattr(args, name) < minimum:
             raise SystemExit(f"--{name} must be >= {minimum}, got {getattr(args, name)}")
+    args.others = min(args.others, args.shots)
     return args
 
 
-def _command(args) -> str:
+def _cpus() -> int:
+    """The CPUs this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def _command(args: argparse.Namespace) -> str:
     """The command line that reproduces this run."""
     if args.quick:
         return "python benchmarks/outcome.py --quick"
     words = ["python benchmarks/outcome.py", f"--shots {args.shots}"]
-    if args.others != args.shots:
+    if args.others != min(OTHERS, args.shots):
         words.append(f"--others {args.others}")
-    if args.paddle != 50:
+    if args.paddle != PADDLE:
         words.append(f"--paddle {args.paddle}")
     return " ".join(words)
+
+
+Found = tuple[list[tuple[Key, physics.Outcome]], list[Note]]
+
+
+def _run_cases(
+    cases: list[tuple[Any, ...]], paddle_count: int, workers: int
+) -> tuple[dict[tuple[float, int], Found], dict[str, list[physics.Outcome]]]:
+    """Every pool case and the paddle strikes, in this process or in ``workers`` processes.
+
+    Raises:
+        RuntimeError: A worker process died (the cases not yet run are cancelled).
+    """
+    results: dict[tuple[float, int], Found] = {}
+    paddle: dict[str, list[physics.Outcome]] = {}
+    total = len(cases) + (1 if paddle_count else 0)
+    label = f"outcome: {len(cases)} shots"
+    progress(0, total, label)
+    count = cases[0][2] if cases else 1
+    if workers == 1:
+        for done, case in enumerate(cases, 1):
+            results[case[:2]] = pool_case(*case)
+            progress(done, total, label)
+        paddle = paddle_cases(paddle_count) if paddle_count else {}
+        return results, paddle
+    # Spawned workers (no fork of a process with solver threads); each draws the shots once.
+    context = multiprocessing.get_context("spawn")
+    executor = ProcessPoolExecutor(
+        workers, mp_context=context, initializer=_base, initargs=(count,)
+    )
+    with executor:
+        futures: dict[Future[Any], tuple[float, int] | None] = {}
+        if paddle_count:
+            futures[executor.submit(paddle_cases, paddle_count)] = None
+        futures.update({executor.submit(pool_case, *case): case[:2] for case in cases})
+        try:
+            for done, future in enumerate(as_completed(futures), 1):
+                key = futures[future]
+                if key is None:
+                    paddle = future.result()
+                else:
+                    results[key] = future.result()
+                progress(done, total, label)
+        except BrokenProcessPool as exc:
+            executor.shutdown(cancel_futures=True)
+            raise RuntimeError(f"a worker process died ({exc}); {len(results)} cases ran") from exc
+        except BaseException:
+            executor.shutdown(cancel_futures=True)
+            raise
+    return results, paddle
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -330,49 +428,27 @@ def main(argv: list[str] | None = None) -> int:
     speeds = SPEEDS[1:] if quick else SPEEDS
     conditions = CONDITIONS[:1] + CONDITIONS[2:3] if quick else CONDITIONS
     everyone = tuple(name for name, _, _ in _planners())
-    _base(args.shots)  # drawn once here; forked workers inherit it
     cases = [
         (speed, index, args.shots, everyone if index < args.others else (PRIMARY,), conditions)
         for speed in speeds
         for index in range(args.shots)
     ]
-    results: dict[tuple[float, int], tuple[list[tuple[Key, physics.Outcome]], list[str]]] = {}
-    paddle: dict[str, list[physics.Outcome]] = {}
-    total = len(cases) + (1 if args.paddle else 0)
-    label = f"outcome: {len(cases)} shots"
-    progress(0, total, label)
-    if args.workers == 1:
-        for done, case in enumerate(cases, 1):
-            results[case[:2]] = pool_case(*case)
-            progress(done, total, label)
-        paddle = paddle_cases(args.paddle) if args.paddle else {}
-    else:
-        context = multiprocessing.get_context("fork")
-        with ProcessPoolExecutor(args.workers, mp_context=context) as executor:
-            futures = {}
-            if args.paddle:
-                futures[executor.submit(paddle_cases, args.paddle)] = None
-            futures.update({executor.submit(pool_case, *case): case[:2] for case in cases})
-            for done, future in enumerate(as_completed(futures), 1):
-                key = futures[future]
-                if key is None:
-                    paddle = future.result()
-                else:
-                    results[key] = future.result()
-                progress(done, total, label)
-    progress(total, total, label)
+    results, paddle = _run_cases(cases, args.paddle, args.workers)
     pool: dict[Key, list[physics.Outcome]] = defaultdict(list)
     failed: dict[str, int] = defaultdict(int)
     early: dict[str, int] = defaultdict(int)
+    errors: list[str] = []
     for case in cases:  # in shot order, whatever order the workers finished in
         found, notes = results[case[:2]]
         for key, outcome in found:
             pool[key].append(outcome)
-        for note in notes:
-            if note.endswith(" early"):
-                early[note.removesuffix(" early")] += 1
+        for name, kind, text in notes:
+            if kind == "early":
+                early[name] += 1
+            elif kind == "failed":
+                failed[name] += 1
             else:
-                failed[note] += 1
+                errors.append(f"{name}: {text}")
     lines = [
         "# Strike outcome: where the ball goes",
         "",
@@ -396,7 +472,10 @@ def main(argv: list[str] | None = None) -> int:
         lines.append(_row(key, pool[key]))
     lines += [
         "",
-        "Plans that failed: " + (", ".join(f"{k} {v}" for k, v in failed.items()) or "none"),
+        "Plans that failed (an OptrajError): "
+        + (", ".join(f"{k} {v}" for k, v in failed.items()) or "none"),
+        "",
+        "Errors (defects; the case's other rows stand): " + ("; ".join(errors) or "none"),
     ]
     if paddle:
         lines += ["", "## Paddle strikes (paddle4, min-time OCP, nominal)", ""]

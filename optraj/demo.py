@@ -314,7 +314,11 @@ def _where_the_ball_went(problem: Any, traj: Any, out: TextIO) -> None:
             )
         )
     for label, run in runs:
-        ball = physics.outcome(run(), problem)
+        try:
+            ball = physics.outcome(run(), problem)
+        except OptrajError as exc:
+            out.write(f"  {label:<22}{'-':>9}{'-':>8}{'-':>12}{'-':>24}  {short_reason(exc)}\n")
+            continue
         if not ball.hit:
             out.write(f"  {label:<22}{'-':>9}{'-':>8}{'-':>12}{'-':>24}  missed the ball\n")
             continue

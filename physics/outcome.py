@@ -71,11 +71,15 @@ class Outcome:
         tool_speed: The tool's speed along the shot at the contact point [m/s].
         rest_position: Pool: where the ball comes to rest on the table [m]; paddle: where it
             is :data:`FLIGHT_TIME` after contact on its (gravity-free) flight; shape (3,).
-        path: The ball's positions over the run [m], shape (m, 3).
+        path: The ball's positions over a :class:`physics.MujocoPlant` run, one per control
+            step [m], shape (m, 3); from :func:`physics.replay` or
+            :func:`physics.straight_cue`, only its position at the end, shape (1, 3).
         direction: The commanded launch direction (unit), shape (3,).
         start: Where the ball was before the strike [m], shape (3,).
         roll: Pool: the ball's positions every :data:`ROLL_SAMPLE` s from the end of the
-            run to rest [m], shape (k, 3); paddle: the run's end and ``rest_position``.
+            run to rest [m], shape (k, 3); paddle: the run's end and ``rest_position``;
+            missed: ``start`` alone, shape (1, 3).
+        kind: The scene's kind, ``"pool"`` or ``"paddle"``.
     """
 
     hit: bool
@@ -94,6 +98,7 @@ class Outcome:
     direction: FloatArray
     start: FloatArray
     roll: FloatArray
+    kind: str
 
     @property
     def within(self) -> bool:
@@ -157,6 +162,7 @@ def outcome(run: Result | dict[str, Any], problem: PoolStrike | PaddleStrike) ->
             direction=direction.copy(),
             start=start,
             roll=start[None, :].copy(),
+            kind=scene.kind,
         )
     launch = np.asarray(record["launch"], dtype=float)
     inverse = np.asarray(record["inverse_inertia"], dtype=float)
@@ -182,6 +188,7 @@ def outcome(run: Result | dict[str, Any], problem: PoolStrike | PaddleStrike) ->
         direction=direction.copy(),
         start=start,
         roll=roll,
+        kind=scene.kind,
     )
 
 

@@ -31,20 +31,43 @@ CUSHION_MARGIN = 0.04
 
 
 def _groups(outcomes: Mapping[str, Sequence[Outcome]]) -> dict[str, list[Outcome]]:
+    """The mapping as ``{label: [Outcome, ...]}``, each outcome's numbers finite where hit."""
     if not isinstance(outcomes, Mapping) or not outcomes:
+        got = type(outcomes).__name__ if not isinstance(outcomes, Mapping) else "an empty one"
         raise InvalidInputError(
-            "outcomes must be a non-empty {label: [physics.Outcome, ...]} mapping",
+            f"outcomes must be a non-empty {{label: [physics.Outcome, ...]}} mapping, got {got}",
             name="outcomes",
         )
     groups: dict[str, list[Outcome]] = {}
     for label, items in outcomes.items():
-        items = list(items)
-        if not items or not all(isinstance(o, Outcome) for o in items):
+        if not isinstance(label, str):
             raise InvalidInputError(
-                f"outcomes[{label!r}] must be a non-empty sequence of physics.Outcome",
+                f"outcome labels must be strings, got {label!r} ({type(label).__name__})",
                 name="outcomes",
             )
-        groups[str(label)] = items
+        if isinstance(items, (str, bytes)) or not isinstance(items, Sequence) or not items:
+            raise InvalidInputError(
+                f"outcomes[{label!r}] must be a non-empty sequence of physics.Outcome, got "
+                f"{type(items).__name__}",
+                name="outcomes",
+            )
+        for index, item in enumerate(items):
+            if not isinstance(item, Outcome):
+                raise InvalidInputError(
+                    f"outcomes[{label!r}][{index}] must be a physics.Outcome, got "
+                    f"{type(item).__name__}",
+                    name="outcomes",
+                )
+            numbers = [item.start, item.direction, item.roll, item.path]
+            if item.hit:
+                numbers.append(np.array([item.heading_error]))
+            if not all(np.isfinite(value).all() for value in numbers):
+                raise InvalidInputError(
+                    f"outcomes[{label!r}][{index}] holds a non-finite number (heading error "
+                    f"{item.heading_error!r})",
+                    name="outcomes",
+                )
+        groups[label] = list(items)
     return groups
 
 
@@ -83,18 +106,19 @@ def plot_ball_paths(outcomes: Mapping[str, Sequence[Outcome]]) -> Any:
         outcomes: ``{label: [Outcome, ...]}`` of pool shots.
 
     Raises:
-        InvalidInputError: An empty mapping, a non-outcome, or a paddle outcome.
+        InvalidInputError: An empty mapping, a label that is not a string, a non-outcome, a
+            non-finite number, or a paddle outcome.
         MissingDependencyError: matplotlib is not installed.
     """
     groups = _groups(outcomes)
     for label, items in groups.items():
-        if any(o.start.shape != (3,) or o.roll.shape[0] < 1 or abs(o.direction[2]) > 1e-6
-               for o in items):  # fmt: skip
-            raise InvalidInputError(
-                f"outcomes[{label!r}] holds a paddle outcome; ball paths are drawn for pool "
-                "shots (a horizontal commanded direction)",
-                name="outcomes",
-            )
+        for index, item in enumerate(items):
+            if item.kind != "pool":
+                raise InvalidInputError(
+                    f"outcomes[{label!r}][{index}] is a {item.kind!r} outcome; ball paths are "
+                    "drawn on a pool table, for pool outcomes only",
+                    name="outcomes",
+                )
     plt = pyplot()
     columns = len(groups)
     figure, axes = plt.subplots(
@@ -158,13 +182,18 @@ def plot_heading_errors(
         title: The axes' title; a default when None.
 
     Raises:
-        InvalidInputError: An empty mapping or a non-outcome.
+        InvalidInputError: An empty mapping, a label that is not a string, a non-outcome, a
+            non-finite number, or ``ax`` not Axes.
         MissingDependencyError: matplotlib is not installed.
     """
     groups = _groups(outcomes)
     plt = pyplot()
     if ax is None:
         figure, ax = plt.subplots(figsize=(6.4, 4.2))
+    elif not hasattr(ax, "step") or not hasattr(ax, "figure"):
+        raise InvalidInputError(
+            f"ax must be matplotlib Axes or None, got {type(ax).__name__}", name="ax"
+        )
     else:
         figure = ax.figure
     floor = 1e-4  # [deg] errors below this are drawn at it (a log axis has no zero)

@@ -283,8 +283,8 @@ class StrikeScene:
         spec.option.timestep = float(self.step)
         spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
         # Elliptic friction cones: MuJoCo's default pyramid pulls a sliding ball's friction
-        # towards its edges, which turns the ball (measured: a straight cue at 20 deg sent
-        # it off 0.09 deg wide and it curved 0.7 m off its line; elliptic: 0.000 deg, straight).
+        # towards the pyramid's edges, which turns the ball off a heading that is not along
+        # one of them (tests/test_replay.py shoots along oblique headings).
         spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
         striking = (
             self._add_cue(tool, offset) if self.kind == "pool" else self._add_paddle(tool, offset)

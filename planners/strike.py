@@ -25,7 +25,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError
+from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError, UnreachableError
 from optraj.validation import as_count
 from planners.base import stamp
 from planners.cartesian import follow_tool_path, limit_report, paddle_contact_velocity
@@ -57,14 +57,14 @@ _LIMITED: dict[str, tuple[str, ...]] = {
     "ruckig": ("velocity", "acceleration", "jerk"),
     "toppra": ("velocity", "acceleration"),
 }
-#: A pool approach keeps the tool point this far off the ball's surface [m] (a cue tip's
-#: diameter and some room); at most half the run-up.
+#: A pool approach keeps the tool frame's origin (the front of the cue tip) this far off the
+#: ball's surface [m] (a cue tip's diameter and some room); at most half the run-up.
 BALL_CLEARANCE = 0.02
-#: An approach that would pass closer goes through a rest pose this far behind the line's
-#: entry [m], from where the cue moves in along the line.
+#: An approach that would pass closer first goes to rest at the line's entry pose moved this
+#: far back along the shot [m]; a second joint-space move from there reaches the entry.
 RETREAT = 0.10
-#: Samples of an approach checked for the clearance.
-_CLEARANCE_SAMPLES = 400
+#: The approach is checked for the clearance at least this often [s].
+_CLEARANCE_STEP = 1e-3
 
 #: Where a pool strike's contact configuration comes from (:func:`contact_configuration`).
 CONTACTS: tuple[str, ...] = ("problem", "choose")
@@ -146,8 +146,10 @@ class TimeOptimalStrike:
             InfeasibleError: The strike line breaks a joint limit (pool; Ruckig's limits
                 are position, velocity, acceleration and jerk, TOPPRA's all but jerk), the
                 entry state cannot be reached, the contact time is too
-                short for the fastest approach, or (``contact="choose"``) no contact
-                configuration can make the strike.
+                short for the fastest approach, (``contact="choose"``) no contact
+                configuration can make the strike, or (pool, ``limit="clearance"``) the
+                approach passes closer to the ball than :data:`BALL_CLEARANCE` even through
+                the rest pose :data:`RETREAT` behind the entry (or that pose is out of reach).
             UnreachableError: A pose on the strike line cannot be reached.
         """
         started = time.perf_counter()
@@ -361,12 +363,16 @@ def check_line(
 
 
 def _ball_gap(problem: PoolStrike, pieces: list[Trajectory]) -> float:
-    """Closest the tool point comes to the ball's surface over the approach pieces [m]."""
+    """Closest the tool frame's origin comes to the ball's surface over the pieces [m].
+
+    Only that point is checked; the rest of the cue and the arm need a collision scene.
+    """
     robot = problem.robot
     ball = np.asarray(problem.ball)
     gap = np.inf
     for piece in pieces:
-        times = np.linspace(0.0, piece.duration, _CLEARANCE_SAMPLES)
+        count = max(2, int(np.ceil(piece.duration / _CLEARANCE_STEP)) + 1)
+        times = np.linspace(0.0, piece.duration, count)
         points = robot.tool_position(piece.sample(times).q)
         gap = min(gap, float(np.min(np.linalg.norm(points - ball, axis=1))))
     return gap - float(problem.ball_radius)
@@ -377,13 +383,22 @@ def _retreat(problem: PoolStrike, q_entry: FloatArray) -> FloatArray:
     robot = problem.robot
     pose = robot.tool_pose(q_entry).copy()
     pose[:3, 3] -= RETREAT * np.asarray(problem.direction)
-    return solve_ik(robot, pose, q_near=q_entry, restarts=20).q
+    try:
+        return solve_ik(robot, pose, q_near=q_entry, restarts=20).q
+    except UnreachableError as exc:
+        x, y, z = pose[:3, 3]
+        raise InfeasibleError(
+            f"the approach passes through the ball and the rest pose {RETREAT:g} m behind the "
+            f"strike line's entry, at ({x:.3f}, {y:.3f}, {z:.3f}) m, is out of reach",
+            limit="clearance",
+        ) from exc
 
 
 def _approach_gap(problem: PoolStrike, approach: Trajectory) -> float:
     """Largest distance of the cue tip from the strike line in the approach's last 20 % [m].
 
-    A joint-space approach meets the line only at the entry; this says how far off it comes.
+    A joint-space approach meets the line only at the entry; this says how far off it comes
+    (of the piece that reaches the entry, when the approach goes through a rest pose).
     """
     robot = problem.robot
     times = np.linspace(0.8 * approach.duration, approach.duration, 50)

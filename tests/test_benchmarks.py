@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib.util
+import sys
 from pathlib import Path
 
 import pytest
@@ -184,11 +185,18 @@ def test_run_all_refuses_a_readme_without_markers(tmp_path, monkeypatch):
         module.rewrite_readme(readme, "section")
 
 
-def test_outcome_quick_run_judges_every_strike_by_the_ball(tmp_path, monkeypatch):
-    module = _load("outcome", monkeypatch)
-    monkeypatch.setattr(module, "RESULTS", tmp_path)
-    assert module.main(["--quick"]) == 0
-    text = (tmp_path / "outcome.md").read_text()
+@pytest.fixture(scope="module")
+def outcome_quick(tmp_path_factory):
+    """One quick outcome run in this process: (module, its folder, its table)."""
+    folder = tmp_path_factory.mktemp("outcome")
+    with pytest.MonkeyPatch.context() as monkeypatch:
+        module = _load("outcome", monkeypatch)
+        assert module.main(["--quick", "--out", str(folder / "outcome.md")]) == 0
+    return module, folder, (folder / "outcome.md").read_text()
+
+
+def test_outcome_quick_run_judges_every_strike_by_the_ball(outcome_quick):
+    _, tmp_path, text = outcome_quick
     rows = {
         tuple(cells[:4]): cells
         for line in text.split("## Paddle")[0].splitlines()
@@ -209,3 +217,13 @@ def test_outcome_quick_run_judges_every_strike_by_the_ball(tmp_path, monkeypatch
     assert targets["paddle DiffIKQP within 0.5 deg of the normal"][-1] == "yes"
     for name in ("outcome_paths.png", "outcome_heading.png"):
         assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "Errors (defects; the case's other rows stand): none" in text
+
+
+def test_outcome_is_the_same_from_worker_processes(outcome_quick, tmp_path, monkeypatch):
+    _, _, serial = outcome_quick
+    module = _load("outcome", monkeypatch)
+    monkeypatch.setitem(sys.modules, "outcome", module)  # spawned workers import it by name
+    out = tmp_path / "outcome.md"
+    assert module.main(["--quick", "--workers", "2", "--out", str(out)]) == 0
+    assert out.read_text() == serial

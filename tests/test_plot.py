@@ -181,6 +181,23 @@ def test_ball_plots_reject_bad_arguments(balls):
         physics.plot_ball_paths({})
     with pytest.raises(InvalidInputError, match=r"physics\.Outcome"):
         physics.plot_heading_errors({"runs": ["not an outcome"]})
-    paddle = dataclasses.replace(hits[0], direction=np.array([0.0, 0.6, 0.8]))
-    with pytest.raises(InvalidInputError, match="paddle"):
+    with pytest.raises(InvalidInputError, match=r"outcomes\['runs'\]\[1\] must be"):
+        physics.plot_heading_errors({"runs": [hits[0], 3.0]})
+    with pytest.raises(InvalidInputError, match="labels must be strings"):
+        physics.plot_heading_errors({1: hits})
+    broken = dataclasses.replace(hits[0], heading_error=float("nan"))
+    with pytest.raises(InvalidInputError, match="non-finite"):
+        physics.plot_heading_errors({"runs": [broken]})
+    with pytest.raises(InvalidInputError, match="ax must be"):
+        physics.plot_heading_errors({"runs": hits}, ax="axes")
+
+
+def test_ball_paths_refuse_a_paddle_outcome():
+    strike = problems.PaddleStrike(
+        problems.seed_paddle_strike().robot, ball=(0.8, 0.2, 0.3), speed=0.5
+    )
+    scene = physics.scene_for(strike)
+    paddle = physics.outcome(physics.straight_cue(scene, strike.normal, 0.5), strike)
+    assert paddle.hit and paddle.kind == "paddle"
+    with pytest.raises(InvalidInputError, match="'paddle' outcome"):
         physics.plot_ball_paths({"paddle": [paddle]})
