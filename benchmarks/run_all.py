@@ -151,7 +151,7 @@ def results_section(out: Path, plots: Path) -> str:
             "tracking.png)",
             "",
             f"**Where the ball goes** (`{cite['outcome']}`; every planner, controller and "
-            "condition in `benchmarks/results/outcome.md`): the issue's targets against this run,",
+            "condition in `benchmarks/results/outcome.md`): the targets against this run,",
             "",
             first_table(read["outcome"], "## Targets"),
             "",

@@ -279,8 +279,10 @@ def simulate(
         The :class:`Result`, with time series and :class:`~controllers.metrics.Metrics`.
 
     Raises:
-        InvalidInputError: Bad dt, latency, settle, start or progress, a plan that is not a
-            Trajectory, or a plan or controller for another robot.
+        InvalidInputError: Bad dt, latency, settle, start, noise, disturbance or progress, a
+            plan that is not a Trajectory, or a plan or controller for another robot (or
+            another model of it).
+        JointLimitError: ``q_start`` beyond a position limit.
         UnknownNameError: An unknown plant name.
         SolverError: The controller returned a joint velocity or feed-forward torque that is
             not a finite (n,) vector.
@@ -290,6 +292,13 @@ def simulate(
     extra = float(as_array(settle, "settle", ()))
     if extra < 0.0:
         raise InvalidInputError(f"settle must be >= 0 s, got {extra:.6g} s", name="settle")
+    for value, kind, name in ((noise, Noise, "noise"), (disturbance, Impulse, "disturbance")):
+        if value is not None and not isinstance(value, kind):
+            raise InvalidInputError(
+                f"{name} must be a controllers.{kind.__name__} or None, got "
+                f"{type(value).__name__} {value!r}",
+                name=name,
+            )
     if not isinstance(controller, Controller):
         raise InvalidInputError(
             f"controller must be a controllers.Controller, got {type(controller).__name__}",
@@ -301,11 +310,14 @@ def simulate(
             name="trajectory",
         )
     own = getattr(controller, "robot", None)
-    if not isinstance(own, Robot) or own.dof != robot.dof or own.name != robot.name:
+    if not isinstance(own, Robot) or own.fingerprint != robot.fingerprint:
         mine = f"{own.name!r} ({own.dof} joints)" if isinstance(own, Robot) else repr(own)
+        other = " (another model of it: links, tool or limits differ)" if (
+            isinstance(own, Robot) and own.name == robot.name
+        ) else ""  # fmt: skip
         raise InvalidInputError(
             f"the controller is for robot {mine}, the simulation for {robot.name!r} "
-            f"({robot.dof} joints)",
+            f"({robot.dof} joints){other}; build the controller with the simulated robot",
             name="controller",
         )
     if progress is not None and not isinstance(progress, bool):
@@ -318,7 +330,11 @@ def simulate(
     t = np.arange(count + 1) * step
     references = _held_at_rest(sample_references(robot, trajectory, np.minimum(t, end)), t, end)
     n = robot.dof
-    q0 = references.q[0] if q_start is None else as_vector(q_start, "q_start", n)
+    if q_start is None:
+        q0 = references.q[0]
+    else:  # a start beyond a joint limit is no run of this robot
+        q0 = as_vector(q_start, "q_start", n)
+        robot.limits.check_position(q0, tolerance=1e-9, context="q_start")
     state = model.reset(q0, references.qd[0])
     rng = np.random.default_rng(noise.seed) if noise is not None else None
 

@@ -1134,9 +1134,9 @@ class OptimalControl(CompiledCache):
             compiled = self._compiled.get(structure)
             if compiled is not None:
                 return compiled
-            model = self._models.get(robot.name)
+            model = self._models.get(robot.fingerprint)
             if model is None:
-                model = self._models[robot.name] = SymbolicModel(robot)
+                model = self._models[robot.fingerprint] = SymbolicModel(robot)
         try:
             compiled = compile_nlp(structure, model)
         except RuntimeError as error:
@@ -1172,7 +1172,7 @@ class OptimalControl(CompiledCache):
             torque_nodes = tuple(range(nodes))
         margin = self.torque_margin if torque_margin is None else torque_margin
         structure = Structure(
-            robot=spec.robot.name,
+            robot=spec.robot.fingerprint,
             limits=structure_limits(spec.limits),
             tool_frame=spec.robot.tool_frame,
             intervals=intervals,
@@ -1285,9 +1285,15 @@ class OptimalControl(CompiledCache):
                 if lam_g is not None:
                     return np.clip(saved.w, lbx, ubx), saved.lam_x, lam_g
         source = spec.guess
-        if warm_start is not None and {g.name for g in grids} <= {
-            p.name for p in warm_start.phases
-        }:
+        if warm_start is not None:
+            wanted = [g.name for g in grids]
+            have = [p.name for p in warm_start.phases]
+            if not set(wanted) <= set(have):
+                raise InvalidInputError(
+                    f"warm_start has the phases {have}, this problem needs {wanted}: a warm "
+                    "start must have every phase of the problem (by name)",
+                    name="warm_start",
+                )
             source = warm_start
         layout = compiled.layout
         mid, half, vel, acc, _ = compiled.scale

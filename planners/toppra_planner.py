@@ -1123,8 +1123,8 @@ class Toppra:
         """Plan a problem time-optimally along a fixed geometric path.
 
         * :class:`problems.Waypoints`: a not-a-knot cubic spline through the waypoints
-          (s = cumulative chord length), at rest at both ends, with phases ``segment 0`` ..
-          ``segment k-2`` between the waypoints. Where that spline would leave the joint
+          (s = cumulative chord length), at rest at both ends, with phases ``segment 1`` ..
+          ``segment k-1`` between the waypoints. Where that spline would leave the joint
           limits, a shape-preserving PCHIP cubic through the same waypoints is used
           (``metadata["path"]`` says which).
         * :class:`problems.PointToPoint`: the straight joint-space line, phase ``move``. A
@@ -1261,7 +1261,7 @@ class Toppra:
         limits = _limits_of(problem)
         path, index = _waypoint_path(np.asarray(problem.waypoints, dtype=float), limits)
         s = path.knots[index]
-        phases = tuple((f"segment {k}", s[k], s[k + 1]) for k in range(s.size - 1))
+        phases = tuple((f"segment {k + 1}", s[k], s[k + 1]) for k in range(s.size - 1))
         return self._assemble(path, limits, problem.robot, 0.0, 0.0, phases)
 
     def _build_line(self, problem: PointToPoint) -> ToppraProblem:

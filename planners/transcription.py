@@ -140,7 +140,8 @@ class Structure:
     """Everything that shapes the NLP; equal structures share one compiled solver.
 
     Attributes:
-        robot: Robot name (with ``limits`` it identifies the constants in the NLP).
+        robot: The robot's :attr:`~robots.Robot.fingerprint` (with ``limits`` it identifies
+            the constants in the NLP).
         limits: Limit rows (lower, upper, velocity, acceleration, jerk, effort) as tuples.
         tool_frame: Frame whose pose the task rows constrain.
         intervals: Intervals per phase.

@@ -140,8 +140,12 @@ def _worst_issue(issues: list[_Issue]) -> _Issue:
 
 
 def _segment_phases(times: FloatArray) -> list[Phase]:
-    """One phase ``segment i`` per segment between consecutive via times [s]."""
-    return [Phase(f"segment {i}", times[i], times[i + 1]) for i in range(times.size - 1)]
+    """One phase ``segment k`` per segment between consecutive via times, k from 1 [s].
+
+    The names are those of :class:`problems.Waypoints` and :class:`planners.OptimalControl`,
+    so that a plan warm-starts another.
+    """
+    return [Phase(f"segment {i + 1}", times[i], times[i + 1]) for i in range(times.size - 1)]
 
 
 # ----------------------------------------------------------------------------- LSPB
@@ -286,7 +290,7 @@ def _lspb_issues(
             issues.append(
                 _Issue(
                     "velocity",
-                    f"segment {i}",
+                    f"segment {i + 1}",
                     j,
                     float(abs(layout.velocities[i, j])),
                     float(vmax[j]),
@@ -302,7 +306,7 @@ def _lspb_issues(
             continue
         if b in (0, k - 1):
             segments: tuple[int, ...] = (0,) if b == 0 else (m - 1,)
-            where = f"segment {segments[0]} ({'start' if b == 0 else 'end'} blend)"
+            where = f"segment {segments[0] + 1} ({'start' if b == 0 else 'end'} blend)"
             # An automatic end blend breaks the limit only when the segment is too short
             # for any blend: a = 2 |d| / h^2 there, so h grows with the square root.
             growth = math.sqrt(ratio[j]) if auto else float(ratio[j])
@@ -332,7 +336,7 @@ def _lspb_issues(
             issues.append(
                 _Issue(
                     "acceleration" if auto else "blend_time",
-                    f"segment {i}",
+                    f"segment {i + 1}",
                     joint if joint is not None and joint >= 0 else None,
                     need,
                     float(h[i]),
@@ -668,7 +672,7 @@ def _quintic_issues(b: FloatArray, h: FloatArray, limits: JointLimits) -> list[_
                 issues.append(
                     _Issue(
                         quantity,
-                        f"segment {i}",
+                        f"segment {i + 1}",
                         j,
                         float(values[i, j]),
                         float(bound[j]),
@@ -695,7 +699,7 @@ def _position_issues(b: FloatArray, limits: JointLimits) -> list[_Issue]:
             issues.append(
                 _Issue(
                     "position",
-                    f"segment {i}",
+                    f"segment {i + 1}",
                     j,
                     float(value),
                     float(bound),

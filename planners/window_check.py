@@ -250,7 +250,7 @@ class WindowCheck(CompiledCache):
         )
 
     def _compile(self, robot: Robot, limits: JointLimits) -> _Compiled:
-        key = (robot.name, robot.tool_frame, structure_limits(limits), self.intervals)
+        key = (robot.fingerprint, structure_limits(limits), self.intervals)
         with self._lock:
             compiled = self._compiled.get(key)
         if compiled is None:

@@ -12,6 +12,8 @@ Conventions used throughout optraj:
 
 from __future__ import annotations
 
+import functools
+import hashlib
 import threading
 from collections.abc import Mapping
 from typing import Any, Literal
@@ -110,6 +112,39 @@ class Robot:
     def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)
         self._local = threading.local()
+
+    @functools.cached_property
+    def fingerprint(self) -> str:
+        """A digest of everything a plan for this robot depends on (hex, 64 characters).
+
+        Two robots share it only if their joints (names, types, placements), link inertias,
+        frames, gravity, armature, tool frame and limits are bit for bit the same: the key of
+        every cache of compiled models, whatever the robot's name (a Sawyer with a longer cue
+        has another).
+        """
+        digest = hashlib.sha256()
+
+        def add(*values: object) -> None:
+            for value in values:
+                if isinstance(value, np.ndarray):
+                    digest.update(np.ascontiguousarray(value, dtype=float).tobytes())
+                else:
+                    digest.update(repr(value).encode())
+                digest.update(b"|")
+
+        m = self.model
+        add(self.name, self.tool_frame, m.nq, m.nv, m.gravity.vector, np.asarray(m.armature))
+        for i in range(1, m.njoints):
+            inertia = m.inertias[i]
+            add(m.names[i], m.joints[i].shortname(), int(m.parents[i]))
+            add(m.jointPlacements[i].homogeneous, inertia.mass, inertia.lever, inertia.inertia)
+        for frame in m.frames:
+            add(frame.name, int(frame.parentJoint), str(frame.type), frame.placement.homogeneous)
+        limits = self.limits
+        add(limits.names, limits.kinds)
+        add(limits.lower, limits.upper, limits.velocity, limits.acceleration)
+        add(limits.jerk, limits.effort)
+        return digest.hexdigest()
 
     @property
     def dof(self) -> int:

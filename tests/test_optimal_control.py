@@ -13,6 +13,7 @@ import pytest
 from conftest import get_robot
 
 import problems
+import robots
 from optraj.errors import (
     CONTACT_CHOICE,
     WINDOW_CHECK,
@@ -416,6 +417,24 @@ def test_waypoints_are_passed_through():
     report = check(traj, problem)
     assert report.ok, report.summary()
     assert [p.name for p in traj.phases] == ["segment 1", "segment 2", "segment 3"]
+
+
+def test_a_via_point_plan_warm_starts_a_waypoint_problem_and_a_mismatch_says_so():
+    # ViaPoints and Toppra named their phases "segment 0..", the NLP "segment 1..": the warm
+    # start was dropped without a word. One naming, and a warm start that cannot be used raises.
+    from planners import ViaPoints
+
+    robot = get_robot("youbot")
+    points = robot.random_configurations(4, np.random.default_rng(4))
+    problem = problems.Waypoints(robot, points, via_tolerance=1e-6)
+    guess = ViaPoints().plan(problem)
+    cold = OptimalControl("time").plan(problem)
+    warm = OptimalControl("time").plan(problem, warm_start=guess)
+    assert check(warm, problem).ok
+    assert warm.metadata["iterations"] != cold.metadata["iterations"]  # the guess was used
+    other = Quintic().plan(problems.PointToPoint(robot, q_start=points[0], q_goal=points[-1]))
+    with pytest.raises(InvalidInputError, match=r"warm_start has the phases \['move'\]"):
+        OptimalControl("time").plan(problem, warm_start=other)
 
 
 def test_a_strike_that_passes_a_position_limit_between_nodes_is_solved_again_within():
@@ -982,3 +1001,16 @@ def test_a_strike_grid_that_cannot_be_refined_stops_and_names_the_miss(monkeypat
     with pytest.raises(SolverError, match=r"after 1 rounds: speed error 0\.2 %") as info:
         planner.plan(problems.sawyer_pool_shot())
     assert info.value.status == "strike line not met between nodes"
+
+
+def test_one_planner_plans_two_models_of_sawyer_each_with_its_own_kinematics():
+    # Its compiled NLPs were keyed by the robot's name: after the default cue, a Sawyer with
+    # a 0.45 m cue reused the other kinematics and ended at IPOPT's iteration limit.
+    planner = OptimalControl("time")
+    shot = problems.sawyer_pool_shot(1.0)
+    longer = robots.load("sawyer", cue_length=0.45)
+    other = dataclasses.replace(shot, robot=longer, limits=longer.limits, q_start=longer.home)
+    for problem in (shot, other):
+        traj = planner.plan(problem)
+        report = check(traj, problem)
+        assert report.ok, report.summary()

@@ -296,3 +296,17 @@ def test_kinematics_are_thread_safe():
             np.testing.assert_array_equal(robot.tool_pose(qs[i]), expected[i])
 
     assert race(work, 8) == []
+
+
+def test_fingerprint_tells_models_apart_not_names():
+    import robots
+
+    default, again = robots.load("sawyer"), robots.load("sawyer")
+    assert (
+        default.fingerprint == again.fingerprint == pickle.loads(pickle.dumps(default)).fingerprint
+    )
+    assert len(default.fingerprint) == 64
+    # Same name, other links or tool: another model.
+    for other in (robots.load("sawyer", cue_length=0.45), robots.load("sawyer", cue_mass=0.2)):
+        assert other.name == default.name and other.fingerprint != default.fingerprint
+    assert robots.load("paddle4").fingerprint != default.fingerprint

@@ -14,7 +14,7 @@ import robots
 from controllers.controller import Command, Controller
 from controllers.plants import KinematicPlant
 from controllers.simulation import Impulse, Noise, simulate
-from optraj.errors import InvalidInputError, SolverError, UnknownNameError
+from optraj.errors import InvalidInputError, JointLimitError, SolverError, UnknownNameError
 
 
 @pytest.fixture(scope="module")
@@ -296,6 +296,23 @@ def test_after_the_plan_the_reference_rests_at_its_final_pose(shot, nominal):
     final = nominal.sample(nominal.duration).q
     np.testing.assert_allclose(result.references.q[after], np.tile(final, (after.sum(), 1)))
     np.testing.assert_array_equal(result.references.t, result.t)
+
+
+def test_a_start_beyond_the_limits_and_bad_options_are_refused(shot, nominal):
+    robot = shot.robot
+    pd = controllers.JointPD(robot)
+    with pytest.raises(JointLimitError, match="q_start"):
+        simulate(robot, nominal, pd, q_start=robot.home + 10.0)
+    with pytest.raises(InvalidInputError, match=r"noise must be a controllers\.Noise"):
+        simulate(robot, nominal, pd, noise="low")
+    with pytest.raises(InvalidInputError, match=r"disturbance must be a controllers\.Impulse"):
+        simulate(robot, nominal, pd, disturbance=(0.0, 0.0, 1.0))
+
+
+def test_a_controller_for_another_model_of_the_same_robot_is_refused(shot, nominal):
+    longer = robots.load("sawyer", cue_length=0.45)  # the same name and joints
+    with pytest.raises(InvalidInputError, match="another model of it"):
+        simulate(longer, nominal, controllers.DiffIKQP(shot.robot))
 
 
 def test_mismatched_plans_and_controllers_are_refused(shot, nominal):

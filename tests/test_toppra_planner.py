@@ -99,7 +99,7 @@ def test_metadata_and_phases_of_a_waypoints_plan():
     assert meta["planner"] == "toppra" and meta["status"] == "ok"
     assert meta["gridpoints"] == 150 and meta["solve_time"] > 0.0
     assert meta["native"].duration == pytest.approx(traj.duration, rel=1e-12)
-    assert [p.name for p in traj.phases] == ["segment 0", "segment 1", "segment 2"]
+    assert [p.name for p in traj.phases] == ["segment 1", "segment 2", "segment 3"]
     # each phase starts on its waypoint, at rest at both ends
     for k, phase in enumerate(traj.phases):
         np.testing.assert_allclose(

@@ -91,7 +91,7 @@ def test_lspb_random_problems_respect_limits_and_cut_corners_by_the_blend_bound(
         measured = planners.check(traj, loose, rate=200.0, quantities=())
         # Phases: one per segment, between the via times.
         times = traj.metadata["via_times"]
-        assert [p.name for p in traj.phases] == [f"segment {i}" for i in range(len(points) - 1)]
+        assert [p.name for p in traj.phases] == [f"segment {i + 1}" for i in range(len(points) - 1)]
         np.testing.assert_allclose([p.t_start for p in traj.phases], times[:-1], atol=1e-12)
         assert traj.duration == pytest.approx(times[-1], rel=1e-12)
         if blend_time is not None:
@@ -157,7 +157,7 @@ def test_lspb_two_waypoints_is_one_synchronised_move():
     robot = get_robot("paddle4")
     problem = problems.Waypoints(robot, [[0.2, 0.0, 0.1, 0.0], [0.8, 1.0, 0.9, -0.5]])
     traj = ViaPoints("lspb").plan(problem)
-    assert [p.name for p in traj.phases] == ["segment 0"]
+    assert [p.name for p in traj.phases] == ["segment 1"]
     _at_rest_on_the_ends(traj, problem.waypoints)
     assert planners.check(traj, problem, quantities=QUANTITIES).ok
     blends = traj.metadata["blend_times"]
@@ -250,7 +250,7 @@ def test_fixed_blend_time_too_long_for_a_segment():
     robot = get_robot("paddle4")
     points = [[0.1, 0, 0.1, 0], [0.5, 1, 0.5, 0.5], [0.9, -1, 0.2, 0]]
     problem = problems.Waypoints(robot, points, segment_durations=[2.0, 2.0])
-    with pytest.raises(InfeasibleError, match=r"segment 0 lasts 2 s, but its blends need 2.25 s"):
+    with pytest.raises(InfeasibleError, match=r"segment 1 lasts 2 s, but its blends need 2.25 s"):
         ViaPoints("lspb", blend_time=1.5).plan(problem)
     # From the limits, the segments are stretched to hold the blends instead.
     traj = ViaPoints("lspb", blend_time=1.5).plan(problems.Waypoints(robot, points))
