@@ -87,6 +87,9 @@ BOUND_TOLERANCE = 1e-6
 #: Default changes of the active set tried per step before OSQP decides: from one control
 #: period to the next the bounds that hold rarely change by more than one or two.
 ACTIVE_SET_CHANGES = 6
+#: Most changes one may ask for: each is unrolled into the compiled step, so the step's
+#: size (and its compile time) grows with it.
+MAX_ACTIVE_SET_CHANGES = 64
 #: How a step computes its QP (see DiffIKQP).
 EVALUATIONS: tuple[str, ...] = ("fused", "compiled", "pieces")
 #: OSQP's infinity.
@@ -133,7 +136,8 @@ class DiffIKQP(Controller):
         active_set_changes: Without extra constraint rows the QP has bounds only: each step
             first solves it exactly on the last step's active set, then changes that set up
             to this many times (a primal-dual active-set method, each change one linear
-            solve), and calls OSQP only when that does not settle. 0: only the last set.
+            solve), and calls OSQP only when that does not settle. 0: only the last set;
+            at most :data:`MAX_ACTIVE_SET_CHANGES`.
         evaluation: How a step without extra constraint rows computes its QP: ``"fused"``
             (default), one CasADi function of the state for the kinematics, the PID law, the
             QP's numbers and the exact solve on the last active set
@@ -213,7 +217,9 @@ class DiffIKQP(Controller):
         self.constraints = tuple(_checked_rows(c, robot.dof) for c in constraints)
         self.tolerance = as_positive(tolerance, "tolerance")
         self.max_iterations = as_count(max_iterations, "max_iterations", minimum=1)
-        self.active_set_changes = as_count(active_set_changes, "active_set_changes")
+        self.active_set_changes = as_count(
+            active_set_changes, "active_set_changes", maximum=MAX_ACTIVE_SET_CHANGES
+        )
         if evaluation not in EVALUATIONS:
             raise UnknownNameError("evaluation", str(evaluation), EVALUATIONS)
         self.evaluation = evaluation

@@ -66,7 +66,7 @@ class Noise:
                     f"noise {name} standard deviation must be >= 0, got {value:.6g}", name=name
                 )
             object.__setattr__(self, name, value)
-        as_count(self.seed, "seed")
+        as_count(self.seed, "seed", maximum=None)
 
 
 @dataclass(frozen=True)

@@ -93,11 +93,23 @@ def as_batch(value: ArrayLike, name: str, size: int) -> tuple[FloatArray, bool]:
     return as_array(value, name, (None, size)), False
 
 
-def as_count(value: object, name: str, minimum: int = 0) -> int:
-    """Return ``value`` as an int >= ``minimum`` (no bools, no fractions)."""
+#: Largest count any argument may give unless its own bound is tighter: a count is a loop
+#: or an allocation, and beyond this one ends in memory exhaustion, not in a result.
+MAX_COUNT = 10_000_000
+
+
+def as_count(value: object, name: str, minimum: int = 0, maximum: int | None = MAX_COUNT) -> int:
+    """Return ``value`` as an int in [``minimum``, ``maximum``] (no bools, no fractions).
+
+    ``maximum=None`` leaves it unbounded (a seed).
+    """
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
         raise InvalidInputError(
             f"{name} must be an integer >= {minimum}, got {value!r}", name=name, value=value
+        )
+    if maximum is not None and value > maximum:
+        raise InvalidInputError(
+            f"{name} must be an integer <= {maximum}, got {value!r}", name=name, value=value
         )
     return int(value)
 

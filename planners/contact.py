@@ -68,6 +68,8 @@ FloatArray = NDArray[np.float64]
 
 _WORLD_ALIGNED = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
+#: Most contact configurations one search may collect or evaluate (each is an IK solve).
+MAX_CANDIDATES = 1000
 #: Longest lever :func:`twist_ratio` takes from the tool origin [m]: several times the length
 #: of any arm here, so more is a unit mistake (and near 1e150 m the lever's products overflow).
 MAX_OFFSET = 10.0
@@ -711,7 +713,8 @@ def choose_contact(
 
     Args:
         problem: A :class:`problems.PoolStrike` or :class:`problems.PaddleStrike`.
-        candidates: IK solutions to collect for a pool strike (>= 1); more search wider and
+        candidates: IK solutions to collect for a pool strike (1 to :data:`MAX_CANDIDATES`);
+            more search wider and
             take longer (on Sawyer the whole choice takes about 45 ms with the defaults, median
             over the strike benchmark's shots).
         seed: Seed of the IK's random restarts (the result is reproducible).
@@ -765,8 +768,8 @@ def contact_choices(
     Raises:
         InfeasibleError, InvalidInputError, SolverError: As :func:`choose_contact`.
     """
-    wanted = as_count(count, "count", 1)
-    searched = as_count(candidates, "candidates", 1)
+    wanted = as_count(count, "count", 1, MAX_CANDIDATES)
+    searched = as_count(candidates, "candidates", 1, MAX_CANDIDATES)
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InvalidInputError(f"seed must be an integer >= 0, got {seed!r}", name="seed")
     reserve = float(as_array(margin, "margin", ()))

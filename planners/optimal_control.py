@@ -155,6 +155,7 @@ from planners.checker import RELATIVE_SLACK
 from planners.contact import (
     BRANCH_SPREAD,
     HEADROOM,
+    MAX_CANDIDATES,
     ContactChoice,
     choose_contact,
     contact_choices,
@@ -570,8 +571,10 @@ class OptimalControl(CompiledCache):
             raise InvalidInputError(f"stretch must be >= 1, got {stretch!r}", name="stretch")
         self.max_iterations = as_count(max_iterations, "max_iterations", 1)
         self.tolerance = as_positive(tolerance, "tolerance")
-        self.contact_candidates = as_count(contact_candidates, "contact_candidates", 1)
-        self.contact_retries = as_count(contact_retries, "contact_retries", 0)
+        self.contact_candidates = as_count(
+            contact_candidates, "contact_candidates", 1, MAX_CANDIDATES
+        )
+        self.contact_retries = as_count(contact_retries, "contact_retries", 0, 100)
         self.free_grid = as_flag(free_grid, "free_grid")
         self.reuse_contact = as_flag(reuse_contact, "reuse_contact")
         self._compiled: dict[Structure, CompiledNLP] = {}

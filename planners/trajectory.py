@@ -32,6 +32,8 @@ FloatArray = NDArray[np.float64]
 
 #: Times this far outside [0, duration] [s] are taken as the end point (round-off).
 TIME_TOLERANCE = 1e-9
+#: Most joints a trajectory may have (arrays are (samples, dof)).
+MAX_DOF = 1000
 _FORMAT = "optraj.trajectory/1"
 
 
@@ -219,7 +221,7 @@ class Trajectory:
         traj._build = build
         traj._pieces = None
         traj._duration = float(duration)
-        traj._describe(as_count(dof, "dof", 1), joint_names, phases, metadata)
+        traj._describe(as_count(dof, "dof", 1, MAX_DOF), joint_names, phases, metadata)
         return traj
 
     def _describe(

@@ -90,3 +90,27 @@ def test_as_fraction():
             as_fraction(bad, "scale")
     with pytest.raises(InvalidInputError, match="finite"):
         as_fraction(float("nan"), "scale")
+
+
+def test_counts_have_an_upper_bound_that_the_error_names():
+    from optraj.validation import MAX_COUNT, as_count
+
+    assert as_count(MAX_COUNT, "n") == MAX_COUNT
+    with pytest.raises(InvalidInputError, match=r"n must be an integer <= 10000000, got 10000001"):
+        as_count(MAX_COUNT + 1, "n")
+    assert as_count(2**80, "seed", maximum=None) == 2**80
+
+
+def test_counts_that_unroll_or_allocate_are_refused_before_any_work():
+    import controllers
+    import planners
+    import problems
+    from planners.contact import choose_contact
+
+    shot = problems.sawyer_pool_shot()
+    with pytest.raises(InvalidInputError, match="active_set_changes must be an integer <= 64"):
+        controllers.DiffIKQP(shot.robot, active_set_changes=10**6)
+    with pytest.raises(InvalidInputError, match="candidates must be an integer <= 1000"):
+        choose_contact(shot, candidates=10**6)
+    with pytest.raises(InvalidInputError, match="dof must be an integer <= 1000"):
+        planners.Trajectory.deferred(1.0, 2**63, lambda: ([0.0, 1.0], [[[0.0]]]))
