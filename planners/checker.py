@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, UnknownNameError
+from optraj.validation import as_array
 from planners.trajectory import TIME_TOLERANCE, Phase, Trajectory
 from problems.constraints import (
     BoundaryState,
@@ -1019,9 +1020,11 @@ def _tool_path(path: ToolPath, ctx: _Context) -> _Evaluation:
     if window is None:
         return _missing(names, tolerances, ["m", "rad"], f"phase {path.phase!r} missing")
     times = ctx.window(window.t_start, window.t_end)
-    ctx.kinematics.need(times)
+    cap = None if path.speed is None else _speed_cap(path.speed, "ToolPath.speed")
+    ctx.kinematics.need(times, twist=cap is not None)
 
     def evaluate() -> list[Finding]:
+        speed = [] if cap is None else [_speed_finding(ctx, times, cap)]
         poses = ctx.kinematics.pose(times)
         p = poses[:, :3, 3]
         p0, p1 = start[:3, 3], end[:3, 3]
@@ -1069,9 +1072,44 @@ def _tool_path(path: ToolPath, ctx: _Context) -> _Evaluation:
                     detail=f"tool {value:.4g} {unit} {where} at t = {time:.6g} s",
                 )
             )
-        return findings
+        return findings + speed
 
     return evaluate
+
+
+def _speed_cap(value: object, name: str) -> float:
+    cap = float(as_array(value, name, ()))
+    if not cap > 0.0:
+        raise InvalidInputError(f"{name} must be > 0 m/s, got {cap:.6g} m/s", name=name)
+    return cap
+
+
+def _speed_finding(ctx: _Context, times: FloatArray, cap: float) -> Finding:
+    """``tool speed``: the tool origin's fastest speed at ``times`` against ``cap`` [m/s].
+
+    Sampled at the check's rate and every breakpoint (the speed is not a polynomial).
+    """
+    speed = np.linalg.norm(ctx.kinematics.twist(times)[:, :3], axis=1)
+    worst = int(np.argmax(speed))
+    value = float(speed[worst])
+    return _finding(
+        "tool speed",
+        "task",
+        value,
+        cap,
+        time=float(times[worst]),
+        joint=None,
+        unit="m/s",
+        detail=f"tool origin at {value:.4g} m/s at t = {float(times[worst]):.6g} s "
+        f"(cap {cap:.4g} m/s)",
+    )
+
+
+def _whole_speed(cap: float, ctx: _Context) -> _Evaluation:
+    """The ``tool_speed`` cap of :func:`check` over the whole trajectory."""
+    times = ctx.window(0.0, ctx.duration)
+    ctx.kinematics.need(times, twist=True)
+    return lambda: [_speed_finding(ctx, times, cap)]
 
 
 def _strike_line(line: StrikeLine, ctx: _Context) -> _Evaluation:
@@ -1358,6 +1396,7 @@ def check(
     *,
     rate: float = 1000.0,
     quantities: Iterable[str] | None = None,
+    tool_speed: float | None = None,
 ) -> Report:
     """Check a trajectory against joint limits and, for a problem, its task constraints.
 
@@ -1369,6 +1408,10 @@ def check(
             sampled, and joint quantities are refined exactly on their polynomials.
         quantities: The limit findings to make, a subset of :data:`QUANTITIES`; all when None.
             Task findings are always made.
+        tool_speed: A cap on the tool frame origin's speed over the whole trajectory [m/s]
+            (what ``Toppra(tool_speed=...)`` promises): adds a ``tool speed`` finding,
+            sampled at ``rate`` and every breakpoint; None for none. A
+            :class:`problems.ToolPath` with ``speed`` adds one over its phase.
 
     Returns:
         The report: limit findings (one per quantity, worst joint and time) then task findings
@@ -1407,6 +1450,8 @@ def check(
 
     jumps = _breakpoint_jumps(derivatives, knots, limits)
     evaluations: list[_Evaluation] = []
+    if tool_speed is not None:
+        evaluations.append(_whole_speed(_speed_cap(tool_speed, "tool_speed"), ctx))
     for item in constraints:
         if isinstance(item, BoundaryState):
             evaluations.append(_boundary_state(item, ctx))

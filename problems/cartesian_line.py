@@ -90,6 +90,7 @@ class CartesianLine:
                 None,
                 self.position_tolerance,
                 self.angle_tolerance,
+                self.speed,
             ),
             BoundaryState("end", None, np.zeros(n)),
         )

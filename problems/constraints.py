@@ -74,6 +74,7 @@ class ToolPath:
         phase: Phase it applies to; the whole trajectory when None.
         position_tolerance: [m].
         angle_tolerance: [rad].
+        speed: Cap on the tool origin's speed along the way [m/s], or None for none.
     """
 
     T_start: FloatArray
@@ -81,6 +82,7 @@ class ToolPath:
     phase: str | None = None
     position_tolerance: float = 1e-4
     angle_tolerance: float = 1e-3
+    speed: float | None = None
 
 
 @dataclass(frozen=True, eq=False)

@@ -685,3 +685,26 @@ def test_three_second_sawyer_check_is_fast(sawyer, pool_shot):
         elapsed.append(time.perf_counter() - started)
     assert report.trajectory.samples >= 3001
     assert min(elapsed) < 0.5, elapsed
+
+
+def test_a_tool_speed_cap_is_verified_over_the_trajectory_and_a_tool_path():
+    # The checker could not verify the cap that Toppra(tool_speed=...) and CartesianLine(speed=)
+    # promise.
+    from planners import CartesianStraightLine, Toppra
+
+    robot = get_robot("sawyer")
+    move = problems.PointToPoint(robot, q_start=robot.home, q_goal=robot.home + 0.4)
+    capped = check(Toppra(tool_speed=0.3).plan(move), move, tool_speed=0.3)["tool speed"]
+    assert capped.ok and 0.29 < capped.value <= 0.3 + 1e-6 and capped.unit == "m/s"
+    free = check(Toppra().plan(move), move, tool_speed=0.3)["tool speed"]
+    assert not free.ok and free.value > 1.0
+    start = robot.tool_pose(robot.home)
+    goal = start.copy()
+    goal[:3, 3] += [0.1, 0.0, 0.0]
+    line = problems.CartesianLine(robot, start, goal, speed=0.05)
+    report = check(CartesianStraightLine().plan(line), line)
+    assert report["tool speed"].ok and report["tool speed"].value <= 0.05 + 1e-6
+    fast = problems.CartesianLine(robot, start, goal, speed=0.01)
+    assert not check(CartesianStraightLine().plan(line), fast)["tool speed"].ok
+    with pytest.raises(InvalidInputError, match="tool_speed must be > 0 m/s"):
+        check(Toppra().plan(move), move, tool_speed=-1.0)
