@@ -38,7 +38,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, UnknownNameError
-from optraj.validation import as_array
+from optraj.validation import as_positive
 from planners.trajectory import TIME_TOLERANCE, Phase, Trajectory
 from problems.constraints import (
     BoundaryState,
@@ -1020,7 +1020,7 @@ def _tool_path(path: ToolPath, ctx: _Context) -> _Evaluation:
     if window is None:
         return _missing(names, tolerances, ["m", "rad"], f"phase {path.phase!r} missing")
     times = ctx.window(window.t_start, window.t_end)
-    cap = None if path.speed is None else _speed_cap(path.speed, "ToolPath.speed")
+    cap = None if path.speed is None else as_positive(path.speed, "ToolPath.speed", "m/s")
     ctx.kinematics.need(times, twist=cap is not None)
 
     def evaluate() -> list[Finding]:
@@ -1075,13 +1075,6 @@ def _tool_path(path: ToolPath, ctx: _Context) -> _Evaluation:
         return findings + speed
 
     return evaluate
-
-
-def _speed_cap(value: object, name: str) -> float:
-    cap = float(as_array(value, name, ()))
-    if not cap > 0.0:
-        raise InvalidInputError(f"{name} must be > 0 m/s, got {cap:.6g} m/s", name=name)
-    return cap
 
 
 def _speed_finding(ctx: _Context, times: FloatArray, cap: float) -> Finding:
@@ -1451,7 +1444,7 @@ def check(
     jumps = _breakpoint_jumps(derivatives, knots, limits)
     evaluations: list[_Evaluation] = []
     if tool_speed is not None:
-        evaluations.append(_whole_speed(_speed_cap(tool_speed, "tool_speed"), ctx))
+        evaluations.append(_whole_speed(as_positive(tool_speed, "tool_speed", "m/s"), ctx))
     for item in constraints:
         if isinstance(item, BoundaryState):
             evaluations.append(_boundary_state(item, ctx))
