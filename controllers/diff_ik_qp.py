@@ -127,7 +127,7 @@ class DiffIKQP(Controller):
         feedforward: Whether the command carries the plan's feed-forward torque
             (``reference.tau``); False: ``Command.tau`` is None.
         limits: Limits to respect; the robot's when None.
-        velocity_scale: Fraction of the velocity limits the command may use, in (0, 1].
+        velocity_scale: Fraction of the velocity limits the command may use, in [1e-6, 1].
         position_gain: Fraction of the distance to a position limit one step may cover.
         constraints: Extra constant rows ``lower <= G qd <= upper`` (e.g. a Cartesian speed
             cap along a direction), added to every step's QP.

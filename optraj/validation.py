@@ -18,8 +18,10 @@ __all__ = [
     "as_array",
     "as_batch",
     "as_count",
+    "as_duration",
     "as_flag",
     "as_fraction",
+    "as_number",
     "as_positive",
     "as_transform",
     "as_vector",
@@ -121,23 +123,80 @@ def as_flag(value: object, name: str) -> bool:
     return bool(value)
 
 
-def as_positive(value: float, name: str, unit: str = "") -> float:
-    """Return ``value`` as a float that is finite and > 0."""
-    number = float(as_array(value, name, ()))
-    if number <= 0.0:
-        unit_text = f" {unit}" if unit else ""
+def _with_unit(number: float, unit: str) -> str:
+    return f"{number:.6g} {unit}" if unit else f"{number:.6g}"
+
+
+def as_number(
+    value: object,
+    name: str,
+    unit: str = "",
+    *,
+    minimum: float | None = None,
+    maximum: float | None = None,
+    open_minimum: bool = False,
+) -> float:
+    """Return ``value`` as a finite float in [``minimum``, ``maximum``].
+
+    Args:
+        value: An int or float (a NumPy scalar or 0-d array too); bools and strings are refused.
+        name: Argument name used in the error message.
+        unit: Unit named in the error message, e.g. ``"s"`` or ``"m/s"``.
+        minimum: Smallest value accepted, or None for no lower bound.
+        maximum: Largest value accepted, or None for no upper bound.
+        open_minimum: Refuse ``minimum`` itself (the range is (minimum, maximum]).
+
+    Raises:
+        InvalidInputError: Not a finite number, or outside the range; the message names the
+            value, the bound and the unit.
+    """
+    number = float(as_array(value, name, ()))  # type: ignore[arg-type]
+    low = minimum is not None and (number <= minimum if open_minimum else number < minimum)
+    if low:
+        sign = ">" if open_minimum else ">="
         raise InvalidInputError(
-            f"{name} must be > 0{unit_text}, got {number:.6g}{unit_text}", name=name, value=value
+            f"{name} must be {sign} {_with_unit(minimum, unit)}, got {_with_unit(number, unit)}",
+            name=name,
+            value=value,
+        )
+    if maximum is not None and number > maximum:
+        raise InvalidInputError(
+            f"{name} must be <= {_with_unit(maximum, unit)}, got {_with_unit(number, unit)}",
+            name=name,
+            value=value,
         )
     return number
 
 
-def as_fraction(value: float, name: str) -> float:
-    """Return ``value`` as a float in (0, 1] (a scale or a share of a limit)."""
+def as_positive(value: float, name: str, unit: str = "", maximum: float | None = None) -> float:
+    """Return ``value`` as a float that is finite, > 0 and, if given, <= ``maximum``."""
+    return as_number(value, name, unit, minimum=0.0, maximum=maximum, open_minimum=True)
+
+
+#: Shortest and longest duration a move, a hold or a simulation may have [s]. Below a
+#: microsecond the derivatives of a finite move overflow double precision (a 1 rad cubic in
+#: 1e-200 s needs 1e400 rad/s^2); above a day no arm's move is meant, and sample counts at
+#: any control rate run into MAX_COUNT.
+MIN_DURATION = 1e-6
+MAX_DURATION = 86_400.0
+
+
+def as_duration(value: object, name: str = "duration") -> float:
+    """Return ``value`` as a duration in [MIN_DURATION, MAX_DURATION] seconds."""
+    return as_number(value, name, "s", minimum=MIN_DURATION, maximum=MAX_DURATION)
+
+
+#: Smallest scale or share of a limit accepted: below it a scaled limit is numerically zero
+#: for every solver we use (a 1e-300 scale makes matrices singular).
+MIN_FRACTION = 1e-6
+
+
+def as_fraction(value: float, name: str, smallest: float = MIN_FRACTION) -> float:
+    """Return ``value`` as a float in [``smallest``, 1] (a scale or a share of a limit)."""
     number = float(as_array(value, name, ()))
-    if not 0.0 < number <= 1.0:
+    if not smallest <= number <= 1.0:
         raise InvalidInputError(
-            f"{name} must be in (0, 1], got {number:.6g}", name=name, value=value
+            f"{name} must be in [{smallest:.6g}, 1], got {number:.6g}", name=name, value=value
         )
     return number
 

@@ -201,11 +201,11 @@ class JointLimits:
         controller 20 % to correct errors with (as a velocity scaling factor does in MoveIt).
 
         Args:
-            factor: Scale, in (0, 1] [-].
+            factor: Scale, in [1e-6, 1] [-].
             quantities: Which of ``velocity``, ``acceleration``, ``jerk``, ``effort``.
 
         Raises:
-            InvalidInputError: A factor outside (0, 1].
+            InvalidInputError: A factor outside [1e-6, 1].
             UnknownNameError: A quantity that is not one of the four.
         """
         number = as_fraction(factor, "factor")

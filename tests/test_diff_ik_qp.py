@@ -355,7 +355,7 @@ def test_bad_settings_are_refused():
     robot = get_robot("sawyer")
     with pytest.raises(InvalidInputError, match="weights"):
         DiffIKQP(robot, weights=(-1.0, 1.0))
-    with pytest.raises(InvalidInputError, match=r"velocity_scale must be in \(0, 1\]"):
+    with pytest.raises(InvalidInputError, match=r"velocity_scale must be in \[1e-06, 1\]"):
         DiffIKQP(robot, velocity_scale=1.5)
     with pytest.raises(InvalidInputError, match="posture_weight"):
         DiffIKQP(robot, posture_weight=-1.0)

@@ -143,7 +143,7 @@ def test_scaled_limits_scale_only_the_chosen_quantities():
     effort = limits.scaled(0.5, ("effort",))
     np.testing.assert_allclose(effort.effort, 0.5 * limits.effort)
     np.testing.assert_array_equal(effort.velocity, limits.velocity)
-    with pytest.raises(InvalidInputError, match=r"factor must be in \(0, 1\]"):
+    with pytest.raises(InvalidInputError, match=r"factor must be in \[1e-06, 1\]"):
         limits.scaled(1.5)
     with pytest.raises(UnknownNameError, match="position"):
         limits.scaled(0.5, ("position",))

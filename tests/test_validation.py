@@ -85,8 +85,9 @@ def test_bools_strings_and_overflow_are_not_numbers(value):
 def test_as_fraction():
     assert as_fraction(1, "scale") == 1.0
     assert as_fraction(0.25, "scale") == 0.25
-    for bad in (0.0, -0.5, 1.5):
-        with pytest.raises(InvalidInputError, match=r"scale must be in \(0, 1\], got"):
+    assert as_fraction(1e-6, "scale") == 1e-6
+    for bad in (0.0, -0.5, 1.5, 1e-300):
+        with pytest.raises(InvalidInputError, match=r"scale must be in \[1e-06, 1\], got"):
             as_fraction(bad, "scale")
     with pytest.raises(InvalidInputError, match="finite"):
         as_fraction(float("nan"), "scale")
@@ -114,3 +115,32 @@ def test_counts_that_unroll_or_allocate_are_refused_before_any_work():
         choose_contact(shot, candidates=10**6)
     with pytest.raises(InvalidInputError, match="dof must be an integer <= 1000"):
         planners.Trajectory.deferred(1.0, 2**63, lambda: ([0.0, 1.0], [[[0.0]]]))
+
+
+def test_as_number_names_the_bound_and_the_unit():
+    from optraj.validation import as_number
+
+    assert as_number(2, "speed", "m/s", minimum=0.0, maximum=10.0) == 2.0
+    with pytest.raises(InvalidInputError, match=r"speed must be <= 10 m/s, got 1e\+308 m/s"):
+        as_number(1e308, "speed", "m/s", maximum=10.0)
+    with pytest.raises(InvalidInputError, match=r"speed must be > 0 m/s, got 0 m/s"):
+        as_number(0.0, "speed", "m/s", minimum=0.0, open_minimum=True)
+    with pytest.raises(InvalidInputError, match=r"gap must be >= -1, got -2"):
+        as_number(-2, "gap", minimum=-1.0)
+    for not_a_number in (True, "2", None):
+        with pytest.raises(InvalidInputError, match="numeric array"):
+            as_number(not_a_number, "x")
+
+
+def test_durations_have_physical_bounds():
+    from optraj.validation import MAX_DURATION, MIN_DURATION, as_duration
+
+    assert as_duration(2, "duration") == 2.0
+    assert as_duration(MIN_DURATION) == MIN_DURATION
+    assert as_duration(MAX_DURATION) == MAX_DURATION
+    with pytest.raises(InvalidInputError, match=r"duration must be <= 86400 s, got 1e\+200 s"):
+        as_duration(1e200)
+    with pytest.raises(InvalidInputError, match=r"duration must be >= 1e-06 s, got 1e-200 s"):
+        as_duration(1e-200)
+    with pytest.raises(InvalidInputError, match="numeric array"):
+        as_duration("2")
