@@ -117,3 +117,16 @@ def test_errors_pickle_with_their_message_and_data(error):
     assert vars(copy) == vars(error)
     if isinstance(error, ImportError):
         assert copy.msg == error.msg
+
+
+def test_the_error_catalogue_documents_every_error_and_nothing_else():
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "errors.md").read_text()
+    headings = [line[3:].strip() for line in text.splitlines() if line.startswith("## ")]
+    assert sorted(headings) == sorted(errors.__all__)
+    for name in headings:  # each entry says when it is raised and, for errors, what to do
+        section = text.split(f"## {name}\n", 1)[1].split("\n## ", 1)[0]
+        assert len(section.split()) >= 12, name
+        if not name.endswith("Warning") and name != "OptrajError":
+            assert "What to do:" in section, name
