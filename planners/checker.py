@@ -29,8 +29,9 @@ Example::
 
 from __future__ import annotations
 
+import functools
 import math
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any, Literal, Protocol
 
@@ -38,7 +39,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, UnknownNameError
-from optraj.validation import as_positive
+from optraj.validation import MAX_COUNT, as_flag, as_number, as_positive, as_vector
 from planners.trajectory import TIME_TOLERANCE, Phase, Trajectory
 from problems.constraints import (
     BoundaryState,
@@ -51,13 +52,19 @@ from problems.constraints import (
 from robots import JointLimits, Robot
 
 __all__ = [
+    "ABSOLUTE_SLACK",
+    "MAX_RATE",
     "QUANTITIES",
+    "RELATIVE_SLACK",
     "STRIKE_WINDOW_TOLERANCE",
+    "TIME_ROUND_OFF",
     "Checkable",
     "Finding",
     "Report",
     "TrajectoryInfo",
     "check",
+    "round_off",
+    "state_allowance",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -67,13 +74,53 @@ QUANTITIES: tuple[str, ...] = ("position", "velocity", "acceleration", "jerk", "
 #: Allowed difference between a strike phase's length and the commanded window [s].
 STRIKE_WINDOW_TOLERANCE = 1e-6
 
-#: A finding passes when ``margin >= -(RELATIVE_SLACK * scale + ABSOLUTE_SLACK)``.
+#: The round-off rule, one for every comparison the checker makes (and for the planners that
+#: promise to pass it, e.g. :mod:`planners.ruckig_planner`): a computed value is taken to meet
+#: a bound, or to equal another value, when it misses by at most :func:`round_off`, i.e.
+#: ``RELATIVE_SLACK * scale + ABSOLUTE_SLACK + TIME_ROUND_OFF * max(1, T) * |slope|``: a
+#: relative error of the value (scale: the limit, the range, or the magnitudes summed to
+#: compute it) plus the change of the value over the round-off of the time at which it is
+#: computed (a breakpoint of a 574 s trajectory is known to about 1e-13 s, over which an
+#: acceleration ramping at 559 rad/s^3 changes by 6e-11 rad/s^2).
 RELATIVE_SLACK = 1e-9
+#: Absolute part of the round-off rule [unit of the quantity].
 ABSOLUTE_SLACK = 1e-12
-#: Relative round-off allowed when comparing the two sides of a breakpoint.
-_ROUND_OFF = 1e-12
-#: Most polynomial segments examined exactly per quantity (the worst samples' segments).
+#: Round-off of a time [s] per second of duration (at least 1 s): 64 machine epsilons, room
+#: for a breakpoint that is a sum of a few dozen rounded durations. Breakpoints that come
+#: closer than this are one instant (:func:`planners.ruckig_planner.native_to_trajectory`
+#: merges them).
+TIME_ROUND_OFF = 64.0 * float(np.finfo(float).eps)
+#: Relative size below which a leading polynomial coefficient is treated as zero when its
+#: roots are sought (a few machine epsilons: dropping it moves the polynomial by less than
+#: that fraction of its largest coefficient on the segment).
+_NEGLIGIBLE = 64.0 * float(np.finfo(float).eps)
+#: Most segments whose via-point distance is examined exactly (the closest samples' segments).
 _MAX_REFINED = 64
+#: Highest sampling rate accepted [Hz]: one sample per microsecond, the shortest duration
+#: :func:`optraj.validation.as_duration` accepts.
+MAX_RATE = 1e6
+
+
+def round_off(scale: ArrayLike, slope: ArrayLike = 0.0, duration: float = 1.0) -> FloatArray:
+    """The round-off allowed on a computed value (the checker's one rule for all comparisons).
+
+    Args:
+        scale: Scale of the value [unit]: its limit, range, or the magnitudes summed to get it.
+        slope: Time derivative of the value where it is computed [unit/s].
+        duration: Duration of the trajectory [s]; times are known to
+            ``TIME_ROUND_OFF * max(1, duration)``.
+
+    Returns:
+        ``RELATIVE_SLACK * |scale| + ABSOLUTE_SLACK + TIME_ROUND_OFF * max(1, duration) * |slope|``
+        [unit], broadcast over ``scale`` and ``slope``.
+    """
+    resolution = TIME_ROUND_OFF * max(1.0, float(duration))
+    return (
+        RELATIVE_SLACK * np.abs(np.asarray(scale, dtype=float))
+        + ABSOLUTE_SLACK
+        + resolution * np.abs(np.asarray(slope, dtype=float))
+    )
+
 
 #: Derivative order of each joint quantity (torque depends on the acceleration).
 _ORDER = {"position": 0, "velocity": 1, "acceleration": 2, "jerk": 3, "torque": 2}
@@ -154,6 +201,10 @@ class Finding:
             raw = getattr(self, name)
             if raw is None and name == "time":
                 continue
+            if isinstance(raw, bool) or not isinstance(raw, (int, float, np.integer, np.floating)):
+                raise InvalidInputError(
+                    f"finding {self.name!r}: {name} must be a number, got {raw!r}", name=name
+                )
             number = float(raw)
             if math.isnan(number):
                 raise InvalidInputError(f"finding {self.name!r}: {name} is NaN", name=name)
@@ -292,6 +343,7 @@ def _finding(
     margin: float | None = None,
     ratio: float | None = None,
     scale: float | None = None,
+    slack: float | None = None,
 ) -> Finding:
     """Build a finding: margin, ratio and verdict from value and limit, NaN turned into a fail.
 
@@ -307,6 +359,7 @@ def _finding(
         margin: ``limit - value`` when None [unit].
         ratio: ``value / limit`` when None [-].
         scale: Scale of the pass slack [unit]; ``|limit|`` when None.
+        slack: The pass slack itself [unit] (see :func:`round_off`); from ``scale`` when None.
     """
     value = float(value)
     limit = float(limit)
@@ -319,7 +372,8 @@ def _finding(
         ratio = value / limit if limit != 0.0 else (0.0 if value == 0.0 else math.inf)
     if math.isnan(ratio):
         ratio = math.inf
-    slack = RELATIVE_SLACK * abs(limit if scale is None else scale) + ABSOLUTE_SLACK
+    if slack is None:
+        slack = float(round_off(limit if scale is None else scale))
     return Finding(
         name=name,
         kind=kind,
@@ -406,43 +460,149 @@ def _real_roots(coefficients: FloatArray, length: float) -> FloatArray:
     return np.clip(near[(near > -1e-9 * length) & (near < length * (1 + 1e-9))], 0.0, length)
 
 
-def _worst_sample(
-    score: FloatArray,
-    lipschitz: FloatArray,
-    segment: NDArray[np.intp],
-    spacing: float,
-) -> list[tuple[int, int]]:
-    """Segments and joints that may hold the worst value of a sampled score.
+def _unit_roots(slope: FloatArray) -> FloatArray:
+    """Real parts of the roots of many polynomials, clipped onto [0, 1].
 
-    Every instant of a segment lies within ``spacing / 2`` of a sample of that segment, so a
-    segment can beat the best sample only if one of its samples comes within
-    ``lipschitz * spacing`` of it (a factor 2 of safety on the sampled slope).
+    Each row holds ascending coefficients; leading coefficients below ``_NEGLIGIBLE`` times
+    the row's largest are dropped, and the rows of each remaining degree share one batched
+    eigenvalue call on their companion matrices. The real part of a complex root is kept
+    too (clipped, it is still a point of the segment, so it can only add a candidate), and
+    each root is improved by one Newton step, kept as a further candidate.
 
     Args:
-        score: Sampled scores, shape (m, n); larger is worse.
-        lipschitz: Largest sampled slope of the score per joint, shape (n,).
-        segment: Segment of each sample, shape (m,).
-        spacing: Largest gap between samples [s].
+        slope: Coefficients, shape (N, m + 1).
 
     Returns:
-        Up to ``_MAX_REFINED`` (segment, joint) pairs, worst sample first.
+        Candidate points, shape (N, 2 m); 0 where a row has fewer roots.
     """
-    best = float(np.max(score))
-    rows, cols = np.nonzero(score >= best - (lipschitz * spacing + 1e-15)[None, :])
-    order = np.argsort(-score[rows, cols], kind="stable")
-    pairs: list[tuple[int, int]] = []
-    seen: set[tuple[int, int]] = set()
-    for i in order:
-        pair = (int(segment[rows[i]]), int(cols[i]))
-        if pair not in seen:
-            seen.add(pair)
-            pairs.append(pair)
-            if len(pairs) >= _MAX_REFINED:
-                break
-    return pairs
+    rows, width = slope.shape
+    found = np.zeros((rows, 2 * (width - 1)))
+    size = np.abs(slope)
+    significant = size > _NEGLIGIBLE * size.max(axis=1, keepdims=True)
+    degree = np.where(
+        significant.any(axis=1), width - 1 - np.argmax(significant[:, ::-1], axis=1), 0
+    )
+    for m in range(1, width):
+        which = np.flatnonzero(degree == m)
+        if which.size == 0:
+            continue
+        c = slope[which, : m + 1]
+        companion = np.zeros((which.size, m, m))
+        companion[:, np.arange(1, m), np.arange(m - 1)] = 1.0
+        companion[:, :, -1] = -c[:, :m] / c[:, m : m + 1]
+        u = np.clip(np.linalg.eigvals(companion).real, 0.0, 1.0)  # (N_m, m)
+        value = np.zeros_like(u)
+        derivative = np.zeros_like(u)
+        for i in range(m, -1, -1):  # Horner for the value and its derivative together
+            derivative = derivative * u + value
+            value = value * u + c[:, i : i + 1]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = np.where(derivative != 0.0, value / derivative, 0.0)
+        polished = np.clip(np.nan_to_num(u - step, nan=0.0), 0.0, 1.0)
+        found[which, :m] = u
+        found[which, width - 1 : width - 1 + m] = polished
+    return found
 
 
-# ---------------------------------------------------------------------------- jumps
+#: A convex score of a joint quantity: values (any shape) and the joint of each (broadcast
+#: with them) in, scores out; larger is worse.
+_Score = Callable[[FloatArray, NDArray[np.intp]], FloatArray]
+
+
+@functools.cache
+def _bernstein(degree: int) -> FloatArray:
+    """Matrix from power to Bernstein coefficients on [0, 1], shape (degree + 1, degree + 1).
+
+    ``b_k = sum_{i <= k} C(k, i) / C(degree, i) a_i``; a polynomial on [0, 1] lies between
+    its smallest and largest Bernstein coefficient (Farouki & Rajan, "On the numerical
+    condition of polynomials in Bernstein form", CAGD 4(3), 1987).
+    """
+    matrix = np.zeros((degree + 1, degree + 1))
+    for k in range(degree + 1):
+        for i in range(k + 1):
+            matrix[i, k] = math.comb(k, i) / math.comb(degree, i)
+    return matrix
+
+
+@dataclass(frozen=True)
+class _Candidates:
+    """Instants where a joint quantity may take its worst value, flat over segments and joints.
+
+    Attributes:
+        time: The instants [s] (a segment's end is its breakpoint exactly), shape (M,).
+        value: The quantity there [unit], shape (M,).
+        slope: Its time derivative there [unit/s], shape (M,).
+        joint: The joint of each, shape (M,).
+    """
+
+    time: FloatArray
+    value: FloatArray
+    slope: FloatArray
+    joint: NDArray[np.intp]
+
+
+def _exact_candidates(ctx: _Context, order: int, score: _Score, fails: float) -> _Candidates:
+    """Candidates that hold the exact worst score of the ``order``-th derivative, every segment.
+
+    Every segment's two ends are candidates. A segment's interior can only matter when its
+    Bernstein enclosure (a rigorous bound of the polynomial on the segment) scores above the
+    best end or above ``fails`` (where a value starts to fail); for those (segment, joint)
+    pairs the real roots of the derivative are added (:func:`_unit_roots`). So the largest
+    score over the candidates is the exact largest over the whole trajectory, whatever the
+    sampling rate, and no value that fails is left out; vectorised over segments and joints.
+
+    Args:
+        ctx: Check context.
+        order: 0 position, 1 velocity, 2 acceleration, 3 jerk.
+        score: Convex score per joint (larger is worse), so its largest value over an
+            interval of values is at one of the interval's ends.
+        fails: The score above which a value may fail.
+    """
+    knots = ctx.knots
+    coefficients = ctx.derivatives[order]
+    _, width, n = coefficients.shape
+    h = np.diff(knots)
+    scaled = coefficients * (h[:, None] ** np.arange(width, dtype=float))[:, :, None]
+    powers = np.arange(width, dtype=float)[None, :, None]
+    joints = np.arange(n)
+    value = np.stack([scaled[:, 0, :], scaled.sum(axis=1)], axis=1)  # (K, 2, n): u = 0, 1
+    if width == 1:
+        slope = np.zeros_like(value)
+    else:
+        slope = np.stack([scaled[:, 1, :], (scaled * powers).sum(axis=1)], axis=1)
+        slope /= h[:, None, None]
+    time = np.broadcast_to(np.stack([knots[:-1], knots[1:]], axis=1)[:, :, None], value.shape)
+    found = [
+        (time.ravel(), value.ravel(), slope.ravel(), np.broadcast_to(joints, value.shape).ravel())
+    ]
+    if width > 2:
+        best = float(np.max(score(value, joints)))
+        threshold = min(best, fails)
+        enclosure = np.einsum("kin,ij->kjn", scaled, _bernstein(width - 1))
+        bound = np.maximum(
+            score(enclosure.min(axis=1), joints), score(enclosure.max(axis=1), joints)
+        )
+        k, j = np.nonzero(bound >= threshold - round_off(threshold))
+        if k.size:
+            rows = scaled[k, :, j]  # (R, width)
+            derivative = rows[:, 1:] * np.arange(1, width, dtype=float)
+            u = _unit_roots(derivative)  # (R, c)
+            inner_value = np.zeros_like(u)
+            inner_slope = np.zeros_like(u)
+            for i in range(width - 1, -1, -1):
+                inner_slope = inner_slope * u + inner_value
+                inner_value = inner_value * u + rows[:, i : i + 1]
+            length = h[k][:, None]
+            found.append(
+                (
+                    (knots[k][:, None] + u * length).ravel(),
+                    inner_value.ravel(),
+                    (inner_slope / length).ravel(),
+                    np.broadcast_to(j[:, None], u.shape).ravel(),
+                )
+            )
+    times, values, slopes, which = (np.concatenate(parts) for parts in zip(*found, strict=True))
+    return _Candidates(times, values, slopes, which)
 
 
 @dataclass(frozen=True)
@@ -458,7 +618,7 @@ class _Jump:
 
 
 def _thresholds(limits: JointLimits) -> list[FloatArray]:
-    """Jump threshold scales per order: position range, velocity and acceleration limits."""
+    """Round-off scales per order: position range, velocity and acceleration limits."""
     return [limits.upper - limits.lower, limits.velocity, limits.acceleration]
 
 
@@ -468,25 +628,30 @@ def _breakpoint_jumps(
     """Jumps of position, velocity and acceleration between the two sides of inner breakpoints.
 
     Each side is evaluated exactly: segment k at its end ``tau = t_{k+1} - t_k`` against
-    segment k + 1 at ``tau = 0``.
+    segment k + 1 at ``tau = 0``. A difference within :func:`round_off` is not a jump: the
+    scale is the quantity's limit (the range for positions) plus the magnitudes summed on
+    the left, the slope the sum of the two sides' slopes (moving a breakpoint by the time
+    round-off changes the difference by at most that sum times the shift).
     """
     if len(knots) < 3:
         return []
     jumps: list[_Jump] = []
     h = np.diff(knots)[:-1]  # lengths of the segments that end at an inner breakpoint
+    duration = float(knots[-1] - knots[0])
     scales = _thresholds(limits)
     for order in range(3):
-        coeffs = derivatives[order]
-        left_rows = coeffs[:-1]  # (K - 1, d + 1, n)
-        powers = h[:, None] ** np.arange(left_rows.shape[1])[None, :]  # (K - 1, d + 1)
-        terms = left_rows * powers[:, :, None]
-        left = terms.sum(axis=1)
-        right = coeffs[1:, 0, :]
+        sides = []
+        for coeffs in derivatives[order : order + 2]:
+            left_rows = coeffs[:-1]  # (K - 1, d + 1, n)
+            powers = h[:, None] ** np.arange(left_rows.shape[1])[None, :]  # (K - 1, d + 1)
+            terms = left_rows * powers[:, :, None]
+            sides.append((terms.sum(axis=1), coeffs[1:, 0, :], np.abs(terms).sum(axis=1)))
+        (left, right, magnitude), (left_slope, right_slope, _) = sides
         delta = right - left
-        threshold = (
-            RELATIVE_SLACK * scales[order][None, :]
-            + ABSOLUTE_SLACK
-            + _ROUND_OFF * np.abs(terms).sum(axis=1)
+        threshold = round_off(
+            scales[order][None, :] + magnitude,
+            np.abs(left_slope) + np.abs(right_slope),
+            duration,
         )
         rows, cols = np.nonzero(np.abs(delta) > threshold)
         for k, j in zip(rows.tolist(), cols.tolist(), strict=True):
@@ -503,24 +668,72 @@ def _breakpoint_jumps(
     return jumps
 
 
+def state_allowance(
+    wanted: Sequence[FloatArray | None],
+    slopes: Sequence[FloatArray],
+    tolerance: float,
+    limits: JointLimits,
+    duration: float,
+) -> list[FloatArray | None]:
+    """How far each prescribed boundary quantity may be missed: the tolerance plus round-off.
+
+    One rule for the ``start state`` / ``end state`` finding and for the boundary jumps, so
+    that a state that passes the finding is never a jump (and one that fails it always is,
+    for velocity and acceleration); planners that promise to pass the checker use it too.
+
+    Args:
+        wanted: The prescribed q, qd, qdd (None where not prescribed), each shape (n,).
+        slopes: The trajectory's qd, qdd, jerk at that end, each shape (n,).
+        tolerance: The state's tolerance [unit of each quantity].
+        limits: The limits (round-off scales).
+        duration: Trajectory duration [s].
+
+    Returns:
+        Per order, the largest deviation that passes, shape (n,), or None where nothing is
+        prescribed: ``tolerance + round_off(scale + |wanted|, slope, duration)``, the scale
+        being the position range, the velocity or the acceleration limit.
+    """
+    scales = _thresholds(limits)
+    return [
+        None
+        if target is None
+        else tolerance + round_off(scales[order] + np.abs(target), slopes[order], duration)
+        for order, target in enumerate(wanted)
+    ]
+
+
 def _boundary_jumps(
-    state: BoundaryState, actual: list[FloatArray], time: float, limits: JointLimits
+    state: BoundaryState,
+    wanted: list[FloatArray | None],
+    actual: list[FloatArray],
+    time: float,
+    limits: JointLimits,
+    duration: float,
 ) -> list[_Jump]:
     """Jumps between a prescribed start/end state and the trajectory at that end.
 
     The robot is in the prescribed state before the start (after the end), so a difference in
     velocity, or in acceleration when one is prescribed, is a jump. A position difference is
     not counted as a jump: the ``start state`` / ``end state`` finding reports it. A difference
-    within the state's own tolerance is not a jump either (it passes that finding too).
+    within the state's own tolerance (plus round-off, :func:`state_allowance`) is not a jump
+    either: it passes that finding too.
+
+    Args:
+        state: The prescribed state.
+        wanted: Its validated q, qd, qdd (None where not prescribed).
+        actual: The trajectory's q, qd, qdd, jerk at that end.
+        time: The end's time [s].
+        limits: The limits.
+        duration: Trajectory duration [s].
     """
-    scales = _thresholds(limits)
+    tolerance = _tolerance(state.tolerance, "BoundaryState.tolerance")
+    allowed = state_allowance(wanted, actual[1:], tolerance, limits, duration)
     jumps: list[_Jump] = []
-    for order, wanted in enumerate((None, state.qd, state.qdd)):
-        if wanted is None:
+    for order in (1, 2):
+        target, threshold = wanted[order], allowed[order]
+        if target is None or threshold is None:
             continue
-        delta = actual[order] - wanted if state.at == "start" else wanted - actual[order]
-        threshold = RELATIVE_SLACK * scales[order] + ABSOLUTE_SLACK + _ROUND_OFF * np.abs(wanted)
-        threshold = np.maximum(threshold, float(state.tolerance))
+        delta = actual[order] - target if state.at == "start" else target - actual[order]
         for j in np.flatnonzero(np.abs(delta) > threshold).tolist():
             jumps.append(
                 _Jump(
@@ -664,9 +877,9 @@ class _Context:
         return np.unique(np.concatenate([inside, [start, last]]))
 
     def state(self, time: float) -> list[FloatArray]:
-        """Exact q, qd, qdd at one time, each shape (n,)."""
+        """Exact q, qd, qdd and jerk at one time, each shape (n,)."""
         at = np.array([min(max(time, 0.0), self.duration)])
-        return [_evaluate(self.derivatives[r], self.knots, at)[0] for r in range(3)]
+        return [_evaluate(self.derivatives[r], self.knots, at)[0] for r in range(4)]
 
     def instant(self, time: float) -> float | None:
         """``time`` clipped onto [0, duration] if within round-off of it, else None."""
@@ -684,55 +897,61 @@ def _limit_findings(
     ctx: _Context,
     jumps: list[_Jump],
 ) -> list[Finding]:
-    """One finding per requested joint quantity: the worst joint and time."""
-    limits, names, knots, derivs = ctx.limits, ctx.names, ctx.knots, ctx.derivatives
-    times = ctx.grid
-    segment = _segments(knots, times)
-    values = {order: _evaluate(derivs[order], knots, times) for order in range(5)}
+    """One finding per requested joint quantity: the worst joint and time.
+
+    Position, velocity, acceleration and jerk are bounded exactly on every segment
+    (:func:`_candidates`), whatever the sampling rate; torque is sampled.
+    """
+    limits, names = ctx.limits, ctx.names
     findings: list[Finding] = []
+    sampled: list[FloatArray] = []
     for quantity in quantities:
         unbounded = _jump_finding(quantity, jumps, limits, names)
         if unbounded is not None:
             findings.append(unbounded)
         elif quantity == "position":
-            findings.append(_position_finding(ctx, values, segment))
+            findings.append(_position_finding(ctx))
         elif quantity == "torque":
-            torque = robot.inverse_dynamics(values[0], values[1], values[2])
-            findings.append(_symmetric_finding(quantity, ctx, torque, None, segment))
+            if not sampled:
+                sampled = [_evaluate(ctx.derivatives[r], ctx.knots, ctx.grid) for r in range(3)]
+            torque = robot.inverse_dynamics(*sampled)
+            findings.append(_torque_finding(ctx, torque))
         else:
-            order = _ORDER[quantity]
-            findings.append(
-                _symmetric_finding(quantity, ctx, values[order], values[order + 1], segment)
-            )
+            findings.append(_symmetric_finding(quantity, ctx))
     return findings
 
 
-def _position_finding(
-    ctx: _Context, values: dict[int, FloatArray], segment: NDArray[np.intp]
-) -> Finding:
+def _worst(ratio: FloatArray, excess: FloatArray) -> Any:
+    """Index of the worst candidate.
+
+    The largest ratio among the candidates that fail (excess > 0), or overall when none fails.
+    """
+    failing = excess > 0.0
+    scores = np.where(failing, ratio, -np.inf) if np.any(failing) else ratio
+    index = np.unravel_index(int(np.argmax(scores)), scores.shape)
+    return index[0] if len(index) == 1 else tuple(int(i) for i in index)
+
+
+def _position_finding(ctx: _Context) -> Finding:
     """Position margin: the smallest distance inside the nearer bound (negative outside)."""
-    limits, knots = ctx.limits, ctx.knots
+    limits = ctx.limits
     lower, upper = limits.lower, limits.upper
-    q = values[0]
-    score = np.maximum(lower - q, q - upper)  # = -margin, larger is worse
-    i, j = np.unravel_index(int(np.argmax(score)), score.shape)
-    best = (float(score[i, j]), int(j), float(ctx.grid[i]), float(q[i, j]))
-    lipschitz = np.max(np.abs(values[1]), axis=0)
-    for k, jj in _worst_sample(score, lipschitz, segment, ctx.spacing):
-        coeffs = ctx.derivatives[0][k, :, jj]
-        taus = _critical_points(coeffs, float(knots[k + 1] - knots[k]))
-        xs = _polyval(coeffs, taus)
-        scores = np.maximum(lower[jj] - xs, xs - upper[jj])
-        m = int(np.argmax(scores))
-        if scores[m] > best[0]:
-            best = (float(scores[m]), jj, float(knots[k] + taus[m]), float(xs[m]))
-    score_value, j, time, x = best
+
+    def score(x: FloatArray, j: NDArray[np.intp]) -> FloatArray:  # = -margin
+        return np.maximum(lower[j] - x, x - upper[j])
+
+    found = _exact_candidates(ctx, 0, score, 0.0)
+    scores = score(found.value, found.joint)
+    slack = round_off((upper - lower)[found.joint], found.slope, ctx.duration)
+    i = _worst(scores, scores - slack)
+    j = int(found.joint[i])
+    x, time = float(found.value[i]), float(found.time[i])
     low, high = float(lower[j]), float(upper[j])
     near_upper = (high - x) <= (x - low)
     bound = high if near_upper else low
     side = "upper" if near_upper else "lower"
     unit = limits.unit("position", j)
-    margin = 0.0 - score_value  # (not -0.0 on a bound)
+    margin = 0.0 - float(scores[i])  # (not -0.0 on a bound)
     where = "inside" if margin >= 0.0 else "beyond"
     detail = (
         f"joint {ctx.names[j]!r} reaches {x:.6g} {unit}, {abs(margin):.4g} {unit} {where} its "
@@ -746,7 +965,7 @@ def _position_finding(
         bound,
         margin=margin,
         ratio=abs(x - 0.5 * (high + low)) / half,
-        scale=high - low,
+        slack=float(slack[i]),
         time=time,
         joint=ctx.names[j],
         unit=unit,
@@ -754,39 +973,43 @@ def _position_finding(
     )
 
 
-def _symmetric_finding(
-    quantity: str,
-    ctx: _Context,
-    samples: FloatArray,
-    slopes: FloatArray | None,
-    segment: NDArray[np.intp],
-) -> Finding:
-    """Largest ``|x| / limit`` over samples and joints, refined on polynomial segments.
+def _symmetric_finding(quantity: str, ctx: _Context) -> Finding:
+    """Largest ``|x| / limit`` of velocity, acceleration or jerk, exactly over every segment."""
+    bound = np.asarray(getattr(ctx.limits, _LIMIT_FIELD[quantity]))
 
-    Args:
-        quantity: velocity, acceleration, jerk or torque.
-        ctx: Check context.
-        samples: Sampled values, shape (m, n).
-        slopes: Sampled time derivative, shape (m, n), for refinement; None for no refinement.
-        segment: Segment of each sample, shape (m,).
-    """
-    limits, knots = ctx.limits, ctx.knots
-    bound = np.asarray(getattr(limits, _LIMIT_FIELD[quantity]))
-    score = np.abs(samples) / bound[None, :]
-    i, j = np.unravel_index(int(np.argmax(score)), score.shape)
-    best = (float(score[i, j]), int(j), float(ctx.grid[i]), float(abs(samples[i, j])))
-    if slopes is not None:
-        order = _ORDER[quantity]
-        lipschitz = np.max(np.abs(slopes), axis=0) / bound
-        for k, jj in _worst_sample(score, lipschitz, segment, ctx.spacing):
-            coeffs = ctx.derivatives[order][k, :, jj]
-            taus = _critical_points(coeffs, float(knots[k + 1] - knots[k]))
-            xs = np.abs(_polyval(coeffs, taus))
-            m = int(np.argmax(xs))
-            if xs[m] / bound[jj] > best[0]:
-                best = (float(xs[m] / bound[jj]), jj, float(knots[k] + taus[m]), float(xs[m]))
-    ratio, j, time, value = best
-    limit = float(bound[j])
+    def score(x: FloatArray, j: NDArray[np.intp]) -> FloatArray:
+        return np.abs(x) / bound[j]
+
+    found = _exact_candidates(ctx, _ORDER[quantity], score, 1.0)
+    magnitude = np.abs(found.value)
+    limit = bound[found.joint]
+    slack = round_off(limit, found.slope, ctx.duration)
+    i = _worst(magnitude / limit, magnitude - limit - slack)
+    return _magnitude_finding(
+        quantity,
+        ctx,
+        float(magnitude[i]),
+        float(found.time[i]),
+        int(found.joint[i]),
+        float(slack[i]),
+    )
+
+
+def _torque_finding(ctx: _Context, torque: FloatArray) -> Finding:
+    """Largest ``|torque| / effort`` over the samples (torque is not a polynomial)."""
+    bound = ctx.limits.effort
+    magnitude = np.abs(torque)
+    i, j = _worst(magnitude / bound, magnitude - bound - round_off(bound))
+    return _magnitude_finding("torque", ctx, float(magnitude[i, j]), float(ctx.grid[i]), j, None)
+
+
+def _magnitude_finding(
+    quantity: str, ctx: _Context, value: float, time: float, j: int, slack: float | None
+) -> Finding:
+    """The finding for a symmetric quantity whose worst magnitude ``value`` is at ``time``."""
+    limits = ctx.limits
+    limit = float(getattr(limits, _LIMIT_FIELD[quantity])[j])
+    ratio = value / limit
     unit = limits.unit(_UNIT_KEY[quantity], j)
     detail = (
         f"|{quantity}| of joint {ctx.names[j]!r} peaks at {value:.6g} {unit}, "
@@ -798,6 +1021,7 @@ def _symmetric_finding(
         value,
         limit,
         ratio=ratio,
+        slack=slack,
         time=time,
         joint=ctx.names[j],
         unit=unit,
@@ -812,13 +1036,21 @@ _Evaluation = Callable[[], list[Finding]]
 
 def _vector(value: ArrayLike, name: str, size: int) -> FloatArray:
     """A constraint's array as a finite float vector of ``size``, or InvalidInputError."""
-    array = np.asarray(value, dtype=float)
-    if array.shape != (size,) or not np.all(np.isfinite(array)):
+    try:
+        shape: tuple[int, ...] | None = np.shape(value)
+    except ValueError:  # ragged nesting
+        shape = None
+    if shape != (size,):
         raise InvalidInputError(
-            f"constraint {name} must be a finite vector of length {size}, got shape {array.shape}",
+            f"constraint {name} must be a finite vector of length {size}, got shape {shape}",
             name=name,
         )
-    return array
+    return as_vector(value, f"constraint {name}", size)
+
+
+def _tolerance(value: object, name: str, unit: str = "") -> float:
+    """A constraint's tolerance or time as a finite number >= 0 [unit], or InvalidInputError."""
+    return as_number(value, name, unit, minimum=0.0)
 
 
 def _unit_vector(value: ArrayLike, name: str) -> FloatArray:
@@ -889,35 +1121,52 @@ def _missing(names: list[str], limits: list[float], units: list[str], why: str) 
     return evaluate
 
 
-def _boundary_state(state: BoundaryState, ctx: _Context) -> _Evaluation:
-    """``start state`` / ``end state``: largest deviation of q (if given), qd, qdd (if given)."""
+def _boundary_wanted(state: BoundaryState, n: int) -> list[FloatArray | None]:
+    """A boundary state's validated q, qd, qdd (None where not prescribed), each shape (n,)."""
     if state.at not in ("start", "end"):
         raise InvalidInputError(
             f"BoundaryState.at must be 'start' or 'end', got {state.at!r}", name="at"
         )
-    n = ctx.limits.n
-    wanted = [
+    return [
         None if state.q is None else _vector(state.q, "BoundaryState.q", n),
         _vector(state.qd, "BoundaryState.qd", n),
         None if state.qdd is None else _vector(state.qdd, "BoundaryState.qdd", n),
     ]
+
+
+def _boundary_state(
+    state: BoundaryState, wanted: list[FloatArray | None], ctx: _Context
+) -> _Evaluation:
+    """``start state`` / ``end state``: largest deviation of q (if given), qd, qdd (if given).
+
+    The finding passes when every prescribed quantity is within the state's tolerance plus
+    round-off (:func:`state_allowance`, the rule the boundary jumps use too); it reports the
+    largest deviation, or, when some quantity fails, the one that misses by the most.
+    """
     time = 0.0 if state.at == "start" else ctx.duration
+    tolerance = _tolerance(state.tolerance, "BoundaryState.tolerance")
 
     def evaluate() -> list[Finding]:
         actual = ctx.state(time)
-        best = (-1.0, 0, 0)
+        allowed = state_allowance(wanted, actual[1:], tolerance, ctx.limits, ctx.duration)
+        best = (-math.inf, -1.0, 0, 0)  # (failing, error, order, joint), largest wins
         for order, target in enumerate(wanted):
-            if target is None:
+            bound = allowed[order]
+            if target is None or bound is None:
                 continue
             error = np.abs(actual[order] - target)
-            j = int(np.argmax(error))
-            if error[j] > best[0]:
-                best = (float(error[j]), order, j)
-        value, order, j = best
+            excess = error - bound
+            j = int(np.argmax(excess)) if np.any(excess > 0.0) else int(np.argmax(error))
+            key = (float(excess[j]) if excess[j] > 0.0 else -math.inf, float(error[j]))
+            if key > best[:2]:
+                best = (*key, order, j)
+        _, value, order, j = best
         quantity = _ORDER_NAME[order]
         unit = ctx.limits.unit(quantity, j)
         target = wanted[order]
-        assert target is not None
+        bound = allowed[order]
+        if target is None or bound is None:  # unreachable: qd is always prescribed
+            raise RuntimeError("boundary state without a prescribed velocity")
         detail = (
             f"{_STATE_NAME[order]} of joint {ctx.names[j]!r} is {actual[order][j]:.6g} {unit}, "
             f"prescribed {target[j]:.6g} {unit}"
@@ -927,11 +1176,12 @@ def _boundary_state(state: BoundaryState, ctx: _Context) -> _Evaluation:
                 f"{state.at} state",
                 "task",
                 value,
-                float(state.tolerance),
+                tolerance,
                 time=time,
                 joint=ctx.names[j],
                 unit=unit,
                 detail=detail,
+                slack=float(bound[j]) - tolerance,
             )
         ]
 
@@ -941,6 +1191,7 @@ def _boundary_state(state: BoundaryState, ctx: _Context) -> _Evaluation:
 def _via_point(via: ViaPoint, ctx: _Context) -> _Evaluation:
     """``via point k``: the closest approach, as the largest joint distance, to ``via.q``."""
     target = _vector(via.q, "ViaPoint.q", ctx.limits.n)
+    tolerance = _tolerance(via.tolerance, "ViaPoint.tolerance", "rad")
     name = f"via point {via.index}"
 
     def evaluate() -> list[Finding]:
@@ -993,7 +1244,7 @@ def _via_point(via: ViaPoint, ctx: _Context) -> _Evaluation:
                 name,
                 "task",
                 value,
-                float(via.tolerance),
+                tolerance,
                 time=time,
                 joint=ctx.names[j],
                 unit=unit,
@@ -1007,7 +1258,10 @@ def _via_point(via: ViaPoint, ctx: _Context) -> _Evaluation:
 def _tool_path(path: ToolPath, ctx: _Context) -> _Evaluation:
     """``tool path position`` and ``tool path orientation`` over the phase (or everything)."""
     names = ["tool path position", "tool path orientation"]
-    tolerances = [float(path.position_tolerance), float(path.angle_tolerance)]
+    tolerances = [
+        _tolerance(path.position_tolerance, "ToolPath.position_tolerance", "m"),
+        _tolerance(path.angle_tolerance, "ToolPath.angle_tolerance", "rad"),
+    ]
     start = np.asarray(path.T_start, dtype=float)
     end = np.asarray(path.T_end, dtype=float)
     for label, T in (("T_start", start), ("T_end", end)):
@@ -1108,28 +1362,31 @@ def _whole_speed(cap: float, ctx: _Context) -> _Evaluation:
 def _strike_line(line: StrikeLine, ctx: _Context) -> _Evaluation:
     """The strike findings: window, position, speed, axis (if aligned) and contact."""
     names = ["strike window", "strike position", "strike speed"]
+    position_tolerance = _tolerance(line.position_tolerance, "StrikeLine.position_tolerance", "m")
     tolerances = [
         STRIKE_WINDOW_TOLERANCE,
-        float(line.position_tolerance),
-        float(line.speed_tolerance),
+        position_tolerance,
+        _tolerance(line.speed_tolerance, "StrikeLine.speed_tolerance"),
     ]
     units = ["s", "m", "-"]
-    if line.align_axis:
+    align = as_flag(line.align_axis, "StrikeLine.align_axis")
+    if align:
+        angle_tolerance = _tolerance(line.angle_tolerance, "StrikeLine.angle_tolerance", "rad")
         names.append("strike axis")
-        tolerances.append(float(line.angle_tolerance))
+        tolerances.append(angle_tolerance)
         units.append("rad")
     names.append("contact")
-    tolerances.append(float(line.position_tolerance))
+    tolerances.append(position_tolerance)
     units.append("m")
     point = _vector(line.point, "StrikeLine.point", 3)
     direction = _unit_vector(line.direction, "StrikeLine.direction")
-    speed = float(line.speed)
-    if not (math.isfinite(speed) and speed > 0.0):
-        raise InvalidInputError(f"StrikeLine.speed must be > 0 m/s, got {speed!r}", name="speed")
+    speed = as_positive(line.speed, "StrikeLine.speed", "m/s")
+    window = _tolerance(line.window, "StrikeLine.window", "s")
+    delay = as_number(line.contact_delay, "StrikeLine.contact_delay", "s")
     phase = ctx.phase(line.phase)
     if phase is None:
         return _missing(names, tolerances, units, f"phase {line.phase!r} missing")
-    t_contact = phase.t_start + float(line.contact_delay)
+    t_contact = phase.t_start + delay
     contact_instant = ctx.instant(t_contact)
     times = ctx.window(phase.t_start, phase.t_end)
     ctx.kinematics.need(times, twist=True)
@@ -1138,7 +1395,7 @@ def _strike_line(line: StrikeLine, ctx: _Context) -> _Evaluation:
 
     def evaluate() -> list[Finding]:
         findings = []
-        gap = abs(phase.duration - float(line.window))
+        gap = abs(phase.duration - window)
         findings.append(
             _finding(
                 "strike window",
@@ -1150,7 +1407,7 @@ def _strike_line(line: StrikeLine, ctx: _Context) -> _Evaluation:
                 unit="s",
                 detail=(
                     f"phase {phase.name!r} lasts {phase.duration:.6g} s, the strike window "
-                    f"{float(line.window):.6g} s"
+                    f"{window:.6g} s"
                 ),
             )
         )
@@ -1197,7 +1454,7 @@ def _strike_line(line: StrikeLine, ctx: _Context) -> _Evaluation:
                 detail=detail,
             )
         )
-        if line.align_axis:
+        if align:
             z = ctx.kinematics.pose(times)[:, :3, 2]
             angle = _angle_between(z, np.broadcast_to(direction, z.shape))
             i = int(np.argmax(angle))
@@ -1206,7 +1463,7 @@ def _strike_line(line: StrikeLine, ctx: _Context) -> _Evaluation:
                     "strike axis",
                     "task",
                     float(angle[i]),
-                    float(line.angle_tolerance),
+                    angle_tolerance,
                     time=float(times[i]),
                     joint=None,
                     unit="rad",
@@ -1254,7 +1511,10 @@ def _strike_line(line: StrikeLine, ctx: _Context) -> _Evaluation:
 def _tool_contact(contact: ToolContact, ctx: _Context) -> _Evaluation:
     """``<label>`` (point), ``<label> axis`` and ``<label> velocity`` at one instant."""
     label = str(contact.label)
-    names, tolerances, units = [label], [float(contact.position_tolerance)], ["m"]
+    position_tolerance = _tolerance(
+        contact.position_tolerance, "ToolContact.position_tolerance", "m"
+    )
+    names, tolerances, units = [label], [position_tolerance], ["m"]
     position = _vector(contact.position, "ToolContact.position", 3)
     axis = None if contact.axis is None else _unit_vector(contact.axis, "ToolContact.axis")
     velocity = (
@@ -1262,14 +1522,18 @@ def _tool_contact(contact: ToolContact, ctx: _Context) -> _Evaluation:
     )
     if axis is not None:
         names.append(f"{label} axis")
-        tolerances.append(float(contact.angle_tolerance))
+        angle_tolerance = _tolerance(contact.angle_tolerance, "ToolContact.angle_tolerance", "rad")
+        tolerances.append(angle_tolerance)
         units.append("rad")
     if velocity is not None:
         names.append(f"{label} velocity")
-        tolerances.append(float(contact.velocity_tolerance))
+        velocity_tolerance = _tolerance(
+            contact.velocity_tolerance, "ToolContact.velocity_tolerance", "m/s"
+        )
+        tolerances.append(velocity_tolerance)
         units.append("m/s")
     if contact.time is not None:
-        wanted = float(contact.time)
+        wanted = as_number(contact.time, "ToolContact.time", "s")
     elif contact.phase is not None:
         phase = ctx.phase(contact.phase)
         if phase is None:
@@ -1292,7 +1556,7 @@ def _tool_contact(contact: ToolContact, ctx: _Context) -> _Evaluation:
             f"instant {wanted:.6g} s lies outside the trajectory [0, {ctx.duration:.6g}] s",
         )
     ctx.kinematics.need([instant], twist=velocity is not None)
-    offset = float(contact.offset)
+    offset = as_number(contact.offset, "ToolContact.offset", "m")
 
     def evaluate() -> list[Finding]:
         T = ctx.kinematics.pose(instant)[0]
@@ -1318,7 +1582,7 @@ def _tool_contact(contact: ToolContact, ctx: _Context) -> _Evaluation:
                     f"{label} axis",
                     "task",
                     angle,
-                    float(contact.angle_tolerance),
+                    angle_tolerance,
                     time=instant,
                     joint=None,
                     unit="rad",
@@ -1334,7 +1598,7 @@ def _tool_contact(contact: ToolContact, ctx: _Context) -> _Evaluation:
                     f"{label} velocity",
                     "task",
                     error,
-                    float(contact.velocity_tolerance),
+                    velocity_tolerance,
                     time=instant,
                     joint=None,
                     unit="m/s",
@@ -1376,11 +1640,44 @@ def _target(target: Any) -> tuple[Robot, JointLimits, tuple[Any, ...]]:
 def _quantities(quantities: Iterable[str] | None) -> tuple[str, ...]:
     if quantities is None:
         return QUANTITIES
-    wanted = [quantities] if isinstance(quantities, str) else list(quantities)
+    if isinstance(quantities, str):
+        wanted: list[object] = [quantities]
+    else:
+        try:
+            wanted = list(quantities)
+        except TypeError as exc:
+            raise InvalidInputError(
+                f"quantities must be a name or names from {QUANTITIES}, got {quantities!r}",
+                name="quantities",
+            ) from exc
     for name in wanted:
         if name not in QUANTITIES:
             raise UnknownNameError("quantity", str(name), QUANTITIES)
     return tuple(q for q in QUANTITIES if q in wanted)
+
+
+def _rate(rate: object, trajectory: Trajectory) -> float:
+    """The sampling rate [Hz], in (0, MAX_RATE], and within the sample budget.
+
+    The samples of every joint are held at once (positions to jerks, and torques), so their
+    number, instants times joints, is bounded by :data:`optraj.validation.MAX_COUNT`.
+
+    Raises:
+        InvalidInputError: Not a number (bools refused), <= 0, above MAX_RATE, or more
+            sampled values than MAX_COUNT; the message names the rate that would fit.
+    """
+    value = as_positive(rate, "rate", "Hz", maximum=MAX_RATE)
+    samples = math.ceil(trajectory.duration * value) + 1
+    if samples * trajectory.dof > MAX_COUNT:
+        fits = (MAX_COUNT / trajectory.dof - 1.0) / trajectory.duration
+        raise InvalidInputError(
+            f"rate {value:.6g} Hz over a {trajectory.duration:.6g} s trajectory of "
+            f"{trajectory.dof} joints needs {samples * trajectory.dof:.3g} sampled values, "
+            f"more than MAX_COUNT = {MAX_COUNT:.3g}; give rate <= {fits:.6g} Hz",
+            name="rate",
+            value=rate,
+        )
+    return value
 
 
 def check(
@@ -1397,8 +1694,11 @@ def check(
         trajectory: The trajectory to judge (only its polynomials and phases are used).
         target: A :class:`robots.Robot` (its limits only), or a problem with ``.robot``,
             ``.limits`` and ``.constraints()`` (limits and every constraint).
-        rate: Sampling rate [Hz]; breakpoints and the instants just before them are always
-            sampled, and joint quantities are refined exactly on their polynomials.
+        rate: Sampling rate [Hz], in (0, :data:`MAX_RATE`], for torques and task constraints
+            (breakpoints and the instants just before them are always sampled); position,
+            velocity, acceleration and jerk are bounded exactly on every segment whatever
+            the rate. Rate times duration times joints must stay within
+            :data:`optraj.validation.MAX_COUNT`.
         quantities: The limit findings to make, a subset of :data:`QUANTITIES`; all when None.
             Task findings are always made.
         tool_speed: A cap on the tool frame origin's speed over the whole trajectory [m/s]
@@ -1427,7 +1727,8 @@ def check(
             name="trajectory",
         )
     wanted = _quantities(quantities)
-    grid = trajectory.times(rate)  # validates the rate
+    rate = _rate(rate, trajectory)
+    grid = trajectory.times(rate)
     knots = np.asarray(trajectory.breakpoints, dtype=float)
     derivatives = _derivatives(np.asarray(trajectory.coefficients, dtype=float), 4)
     ctx = _Context(
@@ -1447,9 +1748,12 @@ def check(
         evaluations.append(_whole_speed(as_positive(tool_speed, "tool_speed", "m/s"), ctx))
     for item in constraints:
         if isinstance(item, BoundaryState):
-            evaluations.append(_boundary_state(item, ctx))
+            prescribed = _boundary_wanted(item, limits.n)
+            evaluations.append(_boundary_state(item, prescribed, ctx))
             time = 0.0 if item.at == "start" else trajectory.duration
-            jumps.extend(_boundary_jumps(item, ctx.state(time), time, limits))
+            jumps.extend(
+                _boundary_jumps(item, prescribed, ctx.state(time), time, limits, ctx.duration)
+            )
         elif isinstance(item, ViaPoint):
             evaluations.append(_via_point(item, ctx))
         elif isinstance(item, ToolPath):
@@ -1481,7 +1785,7 @@ def check(
         dof=trajectory.dof,
         segments=len(knots) - 1,
         samples=int(grid.size),
-        rate=float(rate),
+        rate=rate,
         planner=None if planner is None else str(planner),
         robot=robot.name,
     )

@@ -27,6 +27,11 @@ microseconds while building the polynomials takes about half a millisecond, so a
 move's polynomials are built on first use (:meth:`Trajectory.deferred`); its duration, phases
 and metadata are there at once. Its polynomials are never handed out unchecked: a breach found
 when they are built (which would be a fault of Ruckig's) raises :class:`SolverError`.
+
+Every limit and state comparison here follows the checker's one round-off rule
+(:func:`planners.checker.round_off`), so that a plan that :meth:`Ruckig.plan` returns passes
+:func:`planners.checker.check`: on a long move a breakpoint is known only to about 1e-13 s, over
+which a steep acceleration ramp moves by more than a relative 1e-9 of its limit.
 """
 
 from __future__ import annotations
@@ -45,8 +50,15 @@ import ruckig
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError, SolverError, UnknownNameError
-from optraj.validation import as_positive, as_vector
+from optraj.validation import as_duration, as_flag, as_vector
 from planners.base import JointProfile, rest_to_rest_inputs
+from planners.checker import (
+    ABSOLUTE_SLACK,
+    RELATIVE_SLACK,
+    TIME_ROUND_OFF,
+    round_off,
+    state_allowance,
+)
 from planners.trajectory import Phase, Trajectory
 from problems import PointToPoint
 from robots import JointLimits
@@ -74,12 +86,6 @@ SYNCHRONIZATIONS: Mapping[str, ruckig.Synchronization] = {
     "none": ruckig.Synchronization.No,
 }
 
-#: Relative slack on limits for floating-point round-off (the checker's is the same).
-_SLACK = 1e-9
-#: Absolute slack on limits [unit of the quantity].
-_ABSOLUTE_SLACK = 1e-12
-#: Shortest segment kept [s], per second of duration; shorter ones are Ruckig's round-off.
-_MIN_SEGMENT = 1e-12
 #: Results that carry a usable trajectory.
 _GOOD = (ruckig.Result.Working, ruckig.Result.Finished)
 #: Ruckig's control interfaces by name: move to a target state, or only to a velocity.
@@ -115,12 +121,43 @@ def _check_unsynchronised(name: str, qd1: FloatArray, qdd1: FloatArray) -> None:
 
 
 def _minimum_duration(*values: float | None) -> float | None:
-    """The largest of the given minimum durations [s] (each None or > 0), or None."""
+    """The largest of the given minimum durations [s], or None when none is given.
+
+    Raises:
+        InvalidInputError: A value that is not a duration in [MIN_DURATION, MAX_DURATION]
+            seconds (:func:`optraj.validation.as_duration`).
+    """
     found: list[float] = []
     for value in values:
         if value is not None:
-            found.append(as_positive(value, "minimum_duration", "s"))
+            found.append(as_duration(value, "minimum_duration"))
     return max(found) if found else None
+
+
+def _joint_names(joint_names: Sequence[str] | None, limits: JointLimits) -> tuple[str, ...]:
+    """The result's joint names: those of ``limits`` when None, else n strings.
+
+    Raises:
+        InvalidInputError: Not a sequence of ``limits.n`` strings (a single string is refused:
+            its characters are not names).
+    """
+    if joint_names is None:
+        return limits.names
+    names = None if isinstance(joint_names, str) else _as_tuple(joint_names)
+    if names is None or len(names) != limits.n or not all(isinstance(x, str) for x in names):
+        raise InvalidInputError(
+            f"joint_names must be a sequence of {limits.n} strings, got {joint_names!r}",
+            name="joint_names",
+        )
+    return names
+
+
+def _as_tuple(values: object) -> tuple[object, ...] | None:
+    """``values`` as a tuple, or None when it is not iterable."""
+    try:
+        return tuple(cast(Iterable[object], values))
+    except TypeError:
+        return None
 
 
 def _limits(limits: object) -> JointLimits:
@@ -135,11 +172,6 @@ def _limits(limits: object) -> JointLimits:
 def _optional(value: ArrayLike | None, name: str, n: int) -> FloatArray:
     """A state vector of length n; zeros when None."""
     return np.zeros(n) if value is None else as_vector(value, name, n)
-
-
-def _bound(limit: ArrayLike) -> FloatArray:
-    """Limits with the round-off slack added (same shape)."""
-    return np.asarray(limit, dtype=float) * (1.0 + _SLACK) + _ABSOLUTE_SLACK
 
 
 def _check_state(
@@ -166,14 +198,16 @@ def _check_state(
     # Python floats: seven joints cost less this way than in NumPy calls.
     for j, (velocity, acceleration) in enumerate(states):
         speed_limit = floats["velocity"][j]
-        velocity_bound = speed_limit if arriving else speed_limit * (1.0 + _SLACK) + _ABSOLUTE_SLACK
+        velocity_bound = (
+            speed_limit if arriving else speed_limit * (1.0 + RELATIVE_SLACK) + ABSOLUTE_SLACK
+        )
         swing = acceleration * abs(acceleration) / (2.0 * floats["jerk"][j])
         implied = velocity - swing if arriving else velocity + swing
         for quantity, value, allowed in (
             ("velocity", velocity, speed_limit),
             ("acceleration", acceleration, floats["acceleration"][j]),
         ):
-            bound = allowed if arriving else allowed * (1.0 + _SLACK) + _ABSOLUTE_SLACK
+            bound = allowed if arriving else allowed * (1.0 + RELATIVE_SLACK) + ABSOLUTE_SLACK
             if abs(value) > bound:
                 raise InfeasibleError(
                     f"{label} {quantity} {value:.6g} {limits.unit(quantity, j)} of joint "
@@ -359,7 +393,8 @@ def native_to_trajectory(
     """Convert a Ruckig trajectory exactly into a piecewise-cubic :class:`Trajectory`.
 
     The breakpoints are the union of every joint's phase boundaries (segments shorter than
-    1e-12 s per second of duration, Ruckig's round-off, are merged into their neighbours);
+    the checker's time round-off, :data:`planners.checker.TIME_ROUND_OFF` per second of
+    duration, are merged into their neighbours);
     on each segment every joint's cubic is re-expanded about the segment start as
     ``[p, v, a / 2, j / 6]``. The result matches ``native.at_time`` to round-off.
 
@@ -373,10 +408,15 @@ def native_to_trajectory(
         A degree-3 trajectory of duration ``native.duration``.
 
     Raises:
-        InvalidInputError: A trajectory of zero duration, or one with waypoint sections.
+        InvalidInputError: Not a ``ruckig.Trajectory``, a trajectory of zero duration, or
+            one with waypoint sections.
         SolverError: A Ruckig profile this conversion does not know (an acceleration
             post-profile, unused by Ruckig 0.19's ``at_time``).
     """
+    if not isinstance(native, ruckig.Trajectory):
+        raise InvalidInputError(
+            f"native must be a ruckig.Trajectory, got {type(native).__name__}", name="native"
+        )
     breaks, coefficients = _native_pieces(native)
     return Trajectory(
         breaks, coefficients, joint_names=joint_names, phases=phases, metadata=metadata
@@ -402,7 +442,7 @@ def _native_pieces(native: ruckig.Trajectory) -> tuple[FloatArray, FloatArray]:
             f"{len(sections)} sections",
             name="native",
         )
-    tolerance = _MIN_SEGMENT * max(1.0, duration)
+    tolerance = TIME_ROUND_OFF * max(1.0, duration)
     per_joint: list[tuple[list[float], list[list[float]]]] = []
     knots: list[float] = [0.0, duration]
     for dof, profile in enumerate(sections[0]):
@@ -473,11 +513,12 @@ def _position_error(
 
 
 def _position_slack(lower: Any, upper: Any) -> Any:
-    """Round-off allowed past position limits [rad or m], as the checker allows it.
+    """Round-off allowed past position limits [rad or m] where the joint is at rest.
 
-    Works on floats (one joint) and on arrays (every joint) alike.
+    The checker's rule (:func:`planners.checker.round_off`) on the range; works on floats
+    (one joint) and on arrays (every joint) alike.
     """
-    return _SLACK * (upper - lower) + _ABSOLUTE_SLACK
+    return RELATIVE_SLACK * (upper - lower) + ABSOLUTE_SLACK
 
 
 def _position_breach(
@@ -503,7 +544,7 @@ def _position_breach(
     """
     floats = limits.floats
     # Twice the bound's half-width per unit speed [s]; unbounded when the end is free.
-    width = math.inf if goal is None else float(native.duration) * (1.0 + _SLACK)
+    width = math.inf if goal is None else float(native.duration) * (1.0 + RELATIVE_SLACK)
     ends = start if goal is None else goal
     first_time = native.get_first_time_at_position
     joints = zip(
@@ -572,11 +613,15 @@ def _violations(knots: FloatArray, c: FloatArray, limits: JointLimits) -> list[I
     Velocity peaks lie at segment ends or at the vertex of the quadratic, position extremes
     at segment ends or where the velocity vanishes; acceleration is linear and jerk constant
     on each segment. Candidate times outside a segment are replaced by its start (already a
-    candidate), so no masking is needed.
+    candidate), so no masking is needed. A limit is breached as the checker judges it: by
+    more than :func:`planners.checker.round_off` of the limit and of the slope there (the
+    breakpoints of a long move are known only to round-off, over which a steep quantity
+    moves).
     """
     c0, c1, c2, c3 = (c[:, i, :] for i in range(4))  # each (K, n)
     h = np.broadcast_to(np.diff(knots)[:, None], c0.shape)
     zero = np.zeros_like(c0)
+    duration = float(knots[-1] - knots[0])
 
     def inside(tau: FloatArray) -> FloatArray:
         return np.where((tau > 0.0) & (tau < h), tau, 0.0)
@@ -592,29 +637,38 @@ def _violations(knots: FloatArray, c: FloatArray, limits: JointLimits) -> list[I
     # Position: both bounds. Times of the extremes are looked up only for a breach.
     taus = np.stack([zero, h, first, second])  # (m, K, n)
     values = c0 + taus * (c1 + taus * (c2 + taus * c3))
-    slack = _position_slack(limits.lower, limits.upper)
+    slack = round_off(limits.upper - limits.lower, c1 + taus * (2 * c2 + 3 * taus * c3), duration)
     low, high = values.min(axis=(0, 1)), values.max(axis=(0, 1))
-    for j in np.flatnonzero(low < limits.lower - slack).tolist():
+    below = (limits.lower - values - slack).max(axis=(0, 1)) > 0.0
+    above = (values - limits.upper - slack).max(axis=(0, 1)) > 0.0
+    for j in np.flatnonzero(below).tolist():
         when = _time_of(values, taus, knots, j, lowest=True)
         errors.append(_position_error(limits, j, float(low[j]), when, upper=False))
-    for j in np.flatnonzero(high > limits.upper + slack).tolist():
+    for j in np.flatnonzero(above).tolist():
         when = _time_of(values, taus, knots, j, lowest=False)
         errors.append(_position_error(limits, j, float(high[j]), when, upper=True))
-    # Velocity, acceleration, jerk: magnitudes.
-    for quantity, taus_q, evaluate in (
-        ("velocity", np.stack([zero, h, vertex]), lambda t: c1 + t * (2 * c2 + 3 * t * c3)),
-        ("acceleration", np.stack([zero, h]), lambda t: 2 * c2 + 6 * t * c3),
-        ("jerk", zero[None], lambda t: 6 * c3 + 0 * t),
+    # Velocity, acceleration, jerk: magnitudes, and the slopes (next derivative) there.
+    for quantity, taus_q, evaluate, derivative in (
+        (
+            "velocity",
+            np.stack([zero, h, vertex]),
+            lambda t: c1 + t * (2 * c2 + 3 * t * c3),
+            lambda t: 2 * c2 + 6 * t * c3,
+        ),
+        ("acceleration", np.stack([zero, h]), lambda t: 2 * c2 + 6 * t * c3, lambda t: 6 * c3),
+        ("jerk", zero[None], lambda t: 6 * c3 + 0 * t, lambda t: 0 * t),
     ):
         magnitude = np.abs(evaluate(taus_q))  # (m, K, n)
         peak = magnitude.max(axis=(0, 1))
         allowed = getattr(limits, quantity)
-        for j in np.flatnonzero(peak > _bound(allowed)).tolist():
+        excess = magnitude - allowed - round_off(allowed, derivative(taus_q), duration)
+        for j in np.flatnonzero(excess.max(axis=(0, 1)) > 0.0).tolist():
             name = limits.names[j]
             when = _time_of(magnitude, taus_q, knots, j, lowest=False)
+            article = "an" if quantity == "acceleration" else "a"
             errors.append(
                 InfeasibleError(
-                    f"joint {name!r} reaches a {quantity} of {peak[j]:.6g} "
+                    f"joint {name!r} reaches {article} {quantity} of {peak[j]:.6g} "
                     f"{limits.unit(quantity, j)} at t = {when:.4g} s, above its limit "
                     f"{allowed[j]:.6g}",
                     limit=quantity,
@@ -753,7 +807,7 @@ def _move(
         metadata["interface"] = interface
     else:
         metadata["minimum_duration"] = minimum_duration
-    names = limits.names if joint_names is None else tuple(joint_names)
+    names = _joint_names(joint_names, limits)
     phases = (Phase("stop" if stopping else "move", 0.0, duration),)
     if check_limits:
         traj = Trajectory.deferred(
@@ -817,7 +871,9 @@ def state_to_state(
             breaks a limit on the way (e.g. overshoots a position limit).
         JointLimitError: A start or target position outside the position limits.
         InvalidInputError: Bad shapes or values, nothing to move and no minimum duration,
-            or synchronisation ``none`` with a target that is not at rest.
+            a minimum duration outside [1e-6, 86400] s, joint names that are not n strings,
+            a check_limits that is not a bool, or synchronisation ``none`` with a target
+            that is not at rest.
         UnknownNameError: An unknown synchronisation.
         SolverError: Ruckig fails otherwise; carries its status. Also raised by the first
             use of the polynomials if they break a limit (a fault of Ruckig's, not seen in
@@ -827,6 +883,7 @@ def state_to_state(
     limits = _limits(limits)
     _synchronization(synchronization)
     minimum = _minimum_duration(minimum_duration)
+    check_limits = as_flag(check_limits, "check_limits")
     n = limits.n
     start = as_vector(q0, "q0", n)
     goal = as_vector(q1, "q1", n)
@@ -883,12 +940,14 @@ def stop(
         InfeasibleError: The start state is out of the limits, or the stop breaks a limit
             (names the joint and the values).
         JointLimitError: A start position outside the position limits.
-        InvalidInputError: Bad shapes or values, or the state is already at rest.
+        InvalidInputError: Bad shapes or values, joint names that are not n strings, a
+            check_limits that is not a bool, or the state is already at rest.
         SolverError: Ruckig fails; carries its status.
     """
     started = time.perf_counter()
     limits = _limits(limits)
     _synchronization(synchronization)
+    check_limits = as_flag(check_limits, "check_limits")
     n = limits.n
     start = as_vector(q0, "q0", n)
     limits.check_position(start, tolerance=1e-9, context="start position")
@@ -929,7 +988,7 @@ class Ruckig(JointProfile):
 
     Raises:
         UnknownNameError: An unknown synchronisation.
-        InvalidInputError: A minimum duration <= 0.
+        InvalidInputError: A minimum duration outside [1e-6, 86400] s.
     """
 
     name = "ruckig"
@@ -994,6 +1053,11 @@ class Ruckig(JointProfile):
             InvalidInputError: Not a PointToPoint.
             InfeasibleError: The target state is out of reach within the limits, or the
                 move breaks a limit (see :func:`state_to_state`).
+            SolverError: Ruckig fails, or it ends farther from the target state than the
+                problem's tolerance allows as the checker judges it (Ruckig meets targets to
+                about 1e-8; a smaller tolerance may not be met).
+
+        A returned plan passes :func:`planners.checker.check` against the problem.
         """
         if not isinstance(problem, PointToPoint):
             raise InvalidInputError(
@@ -1007,7 +1071,7 @@ class Ruckig(JointProfile):
         if problem.duration is not None:
             minimum = _minimum_duration(problem.duration, minimum)
         # PointToPoint stores its states as validated float arrays (velocities zero at rest).
-        return _move(
+        traj = _move(
             limits,
             cast(FloatArray, problem.q_start),
             cast(FloatArray, problem.qd_start),
@@ -1021,6 +1085,47 @@ class Ruckig(JointProfile):
             check_limits=True,
             joint_names=limits.names,
         )
+        _check_end(traj.metadata["native"], problem, limits)
+        return traj
+
+
+def _check_end(native: ruckig.Trajectory, problem: PointToPoint, limits: JointLimits) -> None:
+    """Raise SolverError when Ruckig misses the prescribed end state as the checker judges it.
+
+    Ruckig meets a target state only to its own precision (in our tests up to 1e-8 rad off
+    the target position), so a problem with a tighter tolerance would fail the checker's
+    ``end state``. The rule is the checker's (:func:`planners.checker.state_allowance`),
+    with no allowance for the jerk at the end, so a move that passes here passes there.
+    The start needs no check: Ruckig's first piece is the start state itself.
+    """
+    duration = float(native.duration)
+    position, velocity, acceleration = (np.array(x, dtype=float) for x in native.at_time(duration))
+    actual = (position, velocity, acceleration)
+    wanted = (
+        cast(FloatArray, problem.q_goal),
+        cast(FloatArray, problem.qd_goal),
+        cast("FloatArray | None", problem.qdd_goal),
+    )
+    tolerance = float(problem.tolerance)
+    allowed = state_allowance(
+        wanted, (velocity, acceleration, np.zeros(limits.n)), tolerance, limits, duration
+    )
+    for order, (target, bound) in enumerate(zip(wanted, allowed, strict=True)):
+        if target is None or bound is None:
+            continue
+        miss = np.abs(actual[order] - target)
+        j = int(np.argmax(miss - bound))
+        if miss[j] > bound[j]:
+            quantity = ("position", "velocity", "acceleration")[order]
+            unit = limits.unit(quantity, j)
+            raise SolverError(
+                "ruckig",
+                "target state missed",
+                detail=f"the move ends with the {quantity} of joint {limits.names[j]!r} "
+                f"{miss[j]:.3g} {unit} off its target {target[j]:.6g} {unit}, beyond the "
+                f"problem's tolerance {tolerance:.3g} (Ruckig meets targets to about 1e-8); "
+                "give a larger tolerance",
+            )
 
 
 class OnlineRuckig:
@@ -1038,7 +1143,7 @@ class OnlineRuckig:
 
     Args:
         limits: Velocity, acceleration and jerk limits; targets are checked against all.
-        dt: Control period [s], > 0.
+        dt: Control period [s], in [1e-6, 86400].
         synchronization: One of :data:`SYNCHRONIZATIONS`.
 
     Raises:
@@ -1048,7 +1153,7 @@ class OnlineRuckig:
 
     def __init__(self, limits: JointLimits, dt: float, *, synchronization: str = "time") -> None:
         self.limits = _limits(limits)
-        self.dt = as_positive(dt, "dt", "s")
+        self.dt = as_duration(dt, "dt")
         self.synchronization = synchronization
         self._sync = _synchronization(synchronization)
         self._otg = ruckig.Ruckig(self.limits.n, self.dt)

@@ -11,7 +11,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import pytest
 import ruckig
-from conftest import get_robot
+from conftest import HAVE_ERD, get_robot
 
 import problems
 from optraj.errors import (
@@ -121,6 +121,122 @@ def test_random_state_to_state_moves_pass_the_checker_or_raise_typed_errors():
     # Few moves are out of reach: those that must overshoot a position limit.
     assert len(raised) <= 10, [str(exc) for exc in raised]
     assert all(exc.limit == "position" and exc.joint in robot.joint_names for exc in raised)
+
+
+def _slow_limits(robot, rng, low, high):
+    """Limits scaled per joint and quantity, log-uniformly: velocity, acceleration, jerk."""
+    scale = np.exp(rng.uniform(np.log(low), np.log(high), size=(robot.dof, 3))).T
+    base = robot.limits
+    return dataclasses.replace(
+        base,
+        velocity=base.velocity * scale[0],
+        acceleration=base.acceleration * scale[1],
+        jerk=base.jerk * scale[2],
+    )
+
+
+@pytest.mark.skipif(not HAVE_ERD, reason="needs optraj[examples]")
+def test_long_rest_to_rest_moves_with_small_limits_are_usable_and_pass_the_checker():
+    # Panda moves of minutes with limits scaled to 0.1-10 %: 8 of these 300 planned with
+    # status ok and then raised SolverError on their first sample ("an acceleration of
+    # 0.0444608, above its limit 0.0444608"): at t = 1155 s a breakpoint is known to 2e-13 s,
+    # over which the acceleration ramp overshot by more than a relative 1e-9.
+    robot = get_robot("panda")
+    rng = np.random.default_rng(1)
+    planner = Ruckig()
+    failures = []
+    longest = 0.0
+    for k in range(300):
+        limits = _slow_limits(robot, rng, [1e-3] * 3, [1e-1] * 3)
+        q0, q1 = limits.sample(rng, 2)
+        traj = planner.move(q0, q1, limits)
+        longest = max(longest, traj.duration)
+        try:
+            traj.sample(0.0)
+        except SolverError as exc:
+            failures.append((k, str(exc)))
+            continue
+        problem = problems.PointToPoint(robot, q0, q1, limits=limits)
+        report = check(traj, problem, quantities=QUANTITIES, rate=1.0)
+        if not report.ok:
+            failures.append((k, report.violations))
+    assert not failures, failures[:3]
+    assert longest > 1000.0
+
+
+def test_moving_state_plans_with_steep_jerk_pass_the_checker():
+    # Small velocity and acceleration limits with large jerk limits: long moves whose
+    # acceleration ramps last microseconds. Breakpoint round-off there (4e-10 rad/s^2 at
+    # t = 67 s) was called a jump, failing jerk with ratio inf, while plan raised nothing.
+    names = ["sawyer", "youbot", *(["panda"] if HAVE_ERD else [])]
+    rng = np.random.default_rng(3)
+    planner = Ruckig()
+    failures = []
+    for k in range(450):
+        robot = get_robot(names[k % len(names)])
+        limits = _slow_limits(robot, rng, [0.01, 0.01, 1.0], [0.1, 0.1, 100.0])
+        middle, half = 0.5 * (limits.lower + limits.upper), 0.5 * (limits.upper - limits.lower)
+        q0, q1 = (middle + 0.8 * half * rng.uniform(-1.0, 1.0, robot.dof) for _ in range(2))
+        speed = 0.5 * rng.uniform(-1.0, 1.0, size=(2, robot.dof))
+        problem = problems.PointToPoint(
+            robot,
+            q0,
+            q1,
+            qd_start=speed[0] * limits.velocity,
+            qd_goal=speed[1] * limits.velocity,
+            qdd_start=0.5 * speed[0] * limits.acceleration,
+            qdd_goal=0.5 * speed[1] * limits.acceleration,
+            limits=limits,
+        )
+        try:
+            traj = planner.plan(problem)
+        except InfeasibleError:
+            continue
+        report = check(traj, problem, quantities=QUANTITIES, rate=1.0)
+        if not report.ok:
+            failures.append((k, robot.name, report.violations))
+    assert not failures, failures[:3]
+
+
+def test_a_tolerance_tighter_than_ruckigs_precision_raises_when_planned():
+    # With tolerance 0 a plan either meets its end state as the checker judges it (within
+    # round-off) or plan raises; 40 of these 133 plans once passed plan and failed the check.
+    names = ("sawyer", "youbot")
+    rng = np.random.default_rng(1)
+    planned, missed = 0, []
+    failures = []
+    for k in range(400):
+        robot = get_robot(names[k % 2])
+        limits = _slow_limits(robot, rng, [0.01] * 3, [3.0] * 3)
+        middle, half = 0.5 * (limits.lower + limits.upper), 0.5 * (limits.upper - limits.lower)
+        q0, q1 = (middle + 0.8 * half * rng.uniform(-1.0, 1.0, robot.dof) for _ in range(2))
+        state = rng.uniform(-1.0, 1.0, size=(4, robot.dof)) * rng.uniform(0.0, 1.0)
+        problem = problems.PointToPoint(
+            robot,
+            q0,
+            q1,
+            qd_start=state[0] * limits.velocity,
+            qd_goal=state[1] * limits.velocity,
+            qdd_start=state[2] * limits.acceleration,
+            qdd_goal=state[3] * limits.acceleration,
+            limits=limits,
+            tolerance=0.0,
+        )
+        try:
+            traj = Ruckig().plan(problem)
+        except InfeasibleError:
+            continue
+        except SolverError as exc:
+            missed.append(exc)
+            continue
+        planned += 1
+        report = check(traj, problem, quantities=QUANTITIES, rate=1.0)
+        if not report.ok:
+            failures.append((k, report.violations))
+    assert not failures, failures[:3]
+    assert planned >= 100
+    assert missed and all("target state missed" in str(exc) for exc in missed)
+    assert all("tolerance 0" in str(exc) for exc in missed)
 
 
 def test_plan_time_position_check_agrees_with_the_exact_check():
@@ -511,6 +627,31 @@ def test_bad_inputs_raise_typed_errors():
         state_to_state(np.zeros(7), None, None, np.ones(7), None, None, robot)
     with pytest.raises(InvalidInputError, match="PointToPoint"):
         Ruckig().plan(problems.seed_paddle_strike())
+
+
+def test_bad_options_raise_typed_errors():
+    robot = get_robot("sawyer")
+    limits = robot.limits
+    start, goal = robot.home, robot.home + 0.1
+    for options, match in (
+        ({"joint_names": "abcdefg"}, "joint_names must be a sequence of 7 strings"),
+        ({"joint_names": 5}, "joint_names"),
+        ({"joint_names": ["a"] * 6}, "joint_names"),
+        ({"check_limits": "no"}, "check_limits must be True or False"),
+        ({"minimum_duration": 1e300}, r"minimum_duration must be <= 86400 s"),
+        ({"minimum_duration": True}, "minimum_duration"),
+    ):
+        with pytest.raises(InvalidInputError, match=match):
+            state_to_state(start, None, None, goal, None, None, limits, **options)
+    with pytest.raises(InvalidInputError, match="check_limits"):
+        stop(start, 0.1 * limits.velocity, None, limits, check_limits=1)
+    with pytest.raises(InvalidInputError, match=r"dt must be <= 86400 s"):
+        OnlineRuckig(limits, 1e300)
+    with pytest.raises(InvalidInputError, match=r"ruckig\.Trajectory"):
+        native_to_trajectory("not a trajectory")  # type: ignore[arg-type]
+    names = [f"joint {j}" for j in range(7)]
+    named = state_to_state(start, None, None, goal, None, None, limits, joint_names=names)
+    assert named.joint_names == tuple(names)
 
 
 def test_plan_records_metadata_and_exports_without_the_native_object():
