@@ -14,23 +14,30 @@ as the jerk limit grows, :func:`lower_bound` tends to it from above.
 
 Accelerations at the ends are taken as given, zero when not prescribed; position limits are
 ignored (dropping a constraint can only lower the bound, so it remains a bound).
+
+:func:`check_state_torques` is the same kind of necessary condition for the effort limits:
+the torques of a joint state a problem prescribes (a start at rest, a goal state) are its
+inverse dynamics whatever the motion through it, so a state that needs more than a joint's
+effort limit (to hold the arm against gravity, say) refuses the whole motion before any solve.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 import ruckig
 from numpy.typing import ArrayLike, NDArray
 
-from optraj.errors import InvalidInputError
-from optraj.validation import as_vector
+from optraj.errors import InfeasibleError, InvalidInputError
+from optraj.validation import as_array, as_vector
+from planners.checker import ABSOLUTE_SLACK, RELATIVE_SLACK
 from planners.ruckig_planner import _calculate, _check_state, _input, _limits, _optional
 from problems import PointToPoint
-from robots import JointLimits
+from robots import JointLimits, Robot
 
-__all__ = ["joint_min_durations", "lower_bound", "lower_bound_va"]
+__all__ = ["check_state_torques", "joint_min_durations", "lower_bound", "lower_bound_va"]
 
 FloatArray = NDArray[np.float64]
 
@@ -175,6 +182,59 @@ def lower_bound(
     return float(np.max(durations))
 
 
+def check_state_torques(
+    robot: Robot,
+    limits: JointLimits,
+    states: Sequence[tuple[str, ArrayLike, ArrayLike, ArrayLike]],
+) -> None:
+    """Raise when a prescribed joint state needs more torque than the effort limits allow.
+
+    Args:
+        robot: The robot (its inverse dynamics, gravity included).
+        limits: The limits planned for (their ``effort`` [N m or N]).
+        states: ``(what, q, qd, qdd)`` of each state the problem fixes, e.g.
+            ``("the start state (at rest)", q, 0, 0)``: positions [rad or m], velocities
+            [rad/s or m/s] and accelerations [rad/s^2 or m/s^2], each shape (n,).
+
+    Raises:
+        InfeasibleError: ``limit="effort"``, the joint whose torque exceeds its limit the
+            most (by more than the checker's slack), ``required`` and ``allowed`` [N m or
+            N]; the message names the state, the ratio and the factor on the effort limits
+            a plan needs at least.
+        InvalidInputError: A state of the wrong shape or not finite.
+    """
+    if not isinstance(robot, Robot) or not isinstance(limits, JointLimits):
+        raise InvalidInputError(
+            "check_state_torques takes a robots.Robot and robots.JointLimits", name="robot"
+        )
+    n = limits.n
+    worst: tuple[float, str, int, float] | None = None
+    for what, q, qd, qdd in states:
+        tau = robot.inverse_dynamics(
+            as_vector(q, "q", n), as_vector(qd, "qd", n), as_vector(qdd, "qdd", n)
+        )
+        excess = np.abs(tau) - limits.effort * (1.0 + RELATIVE_SLACK) - ABSOLUTE_SLACK
+        ratio = np.abs(tau) / limits.effort
+        joint = int(np.argmax(ratio))
+        if excess[joint] > 0.0 and (worst is None or ratio[joint] > worst[0]):
+            worst = (float(ratio[joint]), str(what), joint, float(tau[joint]))
+    if worst is None:
+        return
+    ratio, what, joint, torque = worst
+    name, allowed = limits.names[joint], float(limits.effort[joint])
+    unit = limits.unit("effort", joint)
+    raise InfeasibleError(
+        f"{what} needs joint {name!r} at {abs(torque):.4g} {unit}, {100.0 * ratio:.1f} % of its "
+        f"effort limit {allowed:.4g} {unit}, whatever the motion through it (a prescribed "
+        f"state's torques are its inverse dynamics): a plan needs effort limits at least "
+        f"{ratio:.4g} times as large, or another state",
+        limit="effort",
+        joint=name,
+        required=abs(torque),
+        allowed=allowed,
+    )
+
+
 def lower_bound_va(delta: ArrayLike, vmax: ArrayLike, amax: ArrayLike) -> float:
     """Closed-form rest-to-rest minimum time with velocity and acceleration limits only.
 
@@ -197,13 +257,10 @@ def lower_bound_va(delta: ArrayLike, vmax: ArrayLike, amax: ArrayLike) -> float:
     arrays = []
     for name, value in (("delta", delta), ("vmax", vmax), ("amax", amax)):
         try:
-            array = np.atleast_1d(np.asarray(value, dtype=float))
-        except (TypeError, ValueError):
-            array = np.array([np.nan])
-        if array.ndim != 1 or not np.all(np.isfinite(array)):
-            raise InvalidInputError(
-                f"{name} must be a finite scalar or 1-D array, got {value!r}", name=name
-            )
+            scalar = np.ndim(value) == 0
+        except ValueError:  # ragged: as_vector names the shape
+            scalar = False
+        array = np.atleast_1d(as_array(value, name, ()) if scalar else as_vector(value, name))
         if name != "delta" and np.any(array <= 0.0):
             raise InvalidInputError(f"{name} must be > 0, got {value!r}", name=name)
         arrays.append(array)

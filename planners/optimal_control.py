@@ -54,6 +54,14 @@ Objectives
     ``stretch`` times the minimum.
 
 Torque limits
+    A state the problem fixes (the start at rest, a move's goal state) has the torques of
+    its inverse dynamics whatever the motion: one that needs more than an effort limit (a
+    start holding the arm against gravity with limits scaled down) is refused before any
+    contact search or solve (:func:`planners.lower_bound.check_state_torques`), with the
+    joint and the factor on the effort limits a plan needs at least. Within the limits but
+    past the torque margin, its node's rows keep only the room the state leaves, and rounds
+    count its own share of the limit as settled.
+
     By default (``torque="auto"``) the NLP is first solved without torque rows and the
     torques are evaluated densely (4 points per interval); only when one exceeds 90 % of its
     limit do rows come in and the NLP is solved again, warm started. ``torque=True`` has
@@ -105,6 +113,19 @@ Warm starts
     warm solve that has not converged after :data:`planners.transcription.WARM_ITERATIONS`
     iterations is solved again from the same primal point with a fresh barrier.
 
+Failures and the time budget
+    A failed solve's ``SolverError`` names its most violated row by group, joint and place
+    (e.g. "dynamics (the acceleration step) of right_j3 at interval 12 of the strike phase")
+    and the joint limits the solver's last point presses (:data:`BINDING` of their bounds or
+    more, torques by the inverse dynamics at the nodes): at an infeasible NLP's point those
+    are what keeps the rows from being met. The window check counts the effort limits too,
+    so a strike whose window needs more torque than they give is refused with the joint and
+    the limit scale it needs at that speed. Each ``plan`` and ``solve`` runs within
+    ``time_budget`` seconds of wall time (:data:`TIME_BUDGET` by default): the solver's
+    iteration callback stops it at the deadline
+    (:func:`planners.transcription.stop_callback`), and the plan raises a ``SolverError``
+    with status :data:`BUDGET_SPENT` that no contact retry catches.
+
 Solve statistics
     ``plan`` sums over every solve it made: ``metadata["iterations"]`` and
     ``metadata["nlp_time"]`` [s] over all rounds (``round_iterations`` lists them, and
@@ -149,7 +170,15 @@ from optraj.errors import (
     UnknownNameError,
     UnreachableError,
 )
-from optraj.validation import as_array, as_count, as_flag, as_positive
+from optraj.validation import (
+    MAX_DURATION,
+    as_count,
+    as_duration,
+    as_flag,
+    as_number,
+    as_positive,
+    as_vector,
+)
 from planners.base import CompiledCache, stamp
 from planners.checker import RELATIVE_SLACK
 from planners.contact import (
@@ -161,7 +190,7 @@ from planners.contact import (
     contact_choices,
     contact_near,
 )
-from planners.lower_bound import joint_min_durations
+from planners.lower_bound import check_state_torques, joint_min_durations
 from planners.ruckig_planner import state_to_state, stop
 from planners.strike import strike_line
 from planners.time_scaling import quintic_coefficients
@@ -172,10 +201,12 @@ from planners.transcription import (
     Layout,
     Structure,
     compile_nlp,
+    deadline,
     freeze_options,
     jerk_step,
     parameter_vector,
     structure_limits,
+    time_left,
     torque_linearization,
 )
 from planners.window_check import WindowCheck, WindowRatio
@@ -185,9 +216,11 @@ from robots import JointLimits, Robot, SymbolicModel
 from robots.paddle_ik import BALL_OFFSET
 
 __all__ = [
+    "BUDGET_SPENT",
     "OBJECTIVES",
     "PHASE_NAMES",
     "SOLVERS",
+    "TIME_BUDGET",
     "OptimalControl",
     "OptimalControlProblem",
     "PhaseGrid",
@@ -264,6 +297,13 @@ STRIKE_ACCELERATION_ROOM = 10.0
 TIGHT_RATIO = HEADROOM
 #: The solver statuses of an NLP found (locally) infeasible.
 INFEASIBLE_STATUSES = frozenset({"Infeasible_Problem_Detected", "Restoration_Failed"})
+#: Default wall-time budget of one plan [s] (``OptimalControl(time_budget=...)``). Plans of
+#: the strike benchmark take 0.1 to 2.3 s, the slowest feasible strikes measured (0.07 m/s
+#: with effort limits at 22 % of Sawyer's) about 30 s; past a minute a solve is lost in a
+#: problem it will not settle.
+TIME_BUDGET = 60.0
+#: :attr:`optraj.errors.SolverError.status` of a plan stopped because its time budget is spent.
+BUDGET_SPENT = "time budget spent"
 #: IK samples of the strike line in a pool strike's first guess (:func:`_window_guess`).
 LINE_SAMPLES = 10
 #: The same when the joints jump between those samples by more than
@@ -347,7 +387,15 @@ class OptimalControlProblem:
         return int(self.compiled.lbg.size)
 
     def violations(self, w: FloatArray) -> dict[str, float]:
-        """Largest bound excess of each constraint group (and ``"bounds"``) at ``w``."""
+        """Largest bound excess of each constraint group (and ``"bounds"``) at ``w``.
+
+        Raises:
+            InvalidInputError: ``w`` is not a finite vector of :attr:`variables` entries.
+        """
+        return self._violations(as_vector(w, "w", self.variables))
+
+    def _violations(self, w: FloatArray) -> dict[str, float]:
+        """:meth:`violations` of a solver's point, which may hold NaN (then so do they)."""
         g = np.asarray(self.compiled.constraint_values(w, self.p)).reshape(-1)
         excess = np.maximum(self.compiled.lbg - g, g - self.compiled.ubg)
         result = {"bounds": float(np.max(np.maximum(self.lbx - w, w - self.ubx), initial=0.0))}
@@ -405,12 +453,7 @@ def _objective(objective: str | Mapping[str, float]) -> dict[str, float]:
     for key, value in objective.items():
         if key not in OBJECTIVES:
             raise UnknownNameError("objective term", str(key), OBJECTIVES)
-        weight = float(as_array(value, f"objective weight {key!r}", ()))
-        if weight < 0.0:
-            raise InvalidInputError(
-                f"objective weight {key!r} must be finite and >= 0, got {value!r}",
-                name="objective",
-            )
+        weight = as_number(value, f"objective weight {key!r}", minimum=0.0)
         if weight > 0.0:
             weights[key] = weight
     if not weights:
@@ -481,6 +524,10 @@ class OptimalControl(CompiledCache):
             the next, but it may not be the one a cold plan picks (the branch the arm
             reaches soonest), so the motion may take longer. When its solve fails, the
             contact search runs as without a warm start.
+        time_budget: Wall time one :meth:`plan` (or :meth:`solve`) may take [s], building
+            the NLPs included, in [1e-6, 86400]; None for no limit. The solver is stopped at
+            its first iteration past it and the plan raises a ``SolverError`` with status
+            :data:`BUDGET_SPENT`.
     """
 
     caches = ("_compiled", "_models")
@@ -508,6 +555,7 @@ class OptimalControl(CompiledCache):
         contact_retries: int = 2,
         free_grid: bool = True,
         reuse_contact: bool = True,
+        time_budget: float | None = TIME_BUDGET,
     ) -> None:
         self.weights = _objective(objective)
         self.objective = objective if isinstance(objective, str) else dict(self.weights)
@@ -520,7 +568,7 @@ class OptimalControl(CompiledCache):
             )
         self.solver_options = dict(solver_options or {})
         if intervals is not None and not isinstance(intervals, Mapping):
-            intervals = as_count(intervals, "intervals", 1)
+            intervals = as_count(intervals, "intervals", 1, MAX_PHASE_INTERVALS)
         elif isinstance(intervals, Mapping):
             for key in intervals:
                 if not (key in PHASE_NAMES or re.fullmatch(r"segment [1-9][0-9]*", str(key))):
@@ -529,11 +577,14 @@ class OptimalControl(CompiledCache):
                         f"{', '.join(PHASE_NAMES)} and 'segment <k>' (Waypoints, from 1)",
                         name="intervals",
                     )
-            intervals = {str(k): as_count(v, f"intervals[{k!r}]", 1) for k, v in intervals.items()}
+            intervals = {
+                str(k): as_count(v, f"intervals[{k!r}]", 1, MAX_PHASE_INTERVALS)
+                for k, v in intervals.items()
+            }
         self.intervals = intervals
-        self.step = as_positive(step, "step", "s")
-        self.strike_step = as_positive(strike_step, "strike_step", "s")
-        self.max_interval = as_positive(max_interval, "max_interval", "s")
+        self.step = as_positive(step, "step", "s", maximum=MAX_DURATION)
+        self.strike_step = as_positive(strike_step, "strike_step", "s", maximum=MAX_DURATION)
+        self.max_interval = as_positive(max_interval, "max_interval", "s", maximum=MAX_DURATION)
         if self.max_interval <= MIN_INTERVAL:
             raise InvalidInputError(
                 f"max_interval must be > {MIN_INTERVAL:g} s (the shortest interval), got "
@@ -541,9 +592,9 @@ class OptimalControl(CompiledCache):
                 name="max_interval",
             )
         for name, value in (("margin", margin), ("torque_margin", torque_margin)):
-            fraction = float(as_array(value, name, ()))
-            if not 0.0 <= fraction < 0.5:
-                raise InvalidInputError(f"{name} must be in [0, 0.5), got {value!r}", name=name)
+            fraction = as_number(value, name, minimum=0.0, maximum=0.5)
+            if fraction == 0.5:
+                raise InvalidInputError(f"{name} must be < 0.5, got {value!r}", name=name)
             setattr(self, name, fraction)
         if not (isinstance(torque, bool) or (isinstance(torque, str) and torque == "auto")):
             raise InvalidInputError(
@@ -561,22 +612,17 @@ class OptimalControl(CompiledCache):
         if torque_rows not in TORQUE_ROWS:
             raise UnknownNameError("torque rows", torque_rows, TORQUE_ROWS)
         self.torque_rows = torque_rows
-        self.regularization = float(as_array(regularization, "regularization", ()))
-        if self.regularization < 0.0:
-            raise InvalidInputError(
-                f"regularization must be >= 0, got {regularization!r}", name="regularization"
-            )
-        self.stretch = float(as_array(stretch, "stretch", ()))
-        if self.stretch < 1.0:
-            raise InvalidInputError(f"stretch must be >= 1, got {stretch!r}", name="stretch")
+        self.regularization = as_number(regularization, "regularization", minimum=0.0)
+        self.stretch = as_number(stretch, "stretch", minimum=1.0)
         self.max_iterations = as_count(max_iterations, "max_iterations", 1)
-        self.tolerance = as_positive(tolerance, "tolerance")
+        self.tolerance = as_positive(tolerance, "tolerance", maximum=1.0)
         self.contact_candidates = as_count(
             contact_candidates, "contact_candidates", 1, MAX_CANDIDATES
         )
         self.contact_retries = as_count(contact_retries, "contact_retries", 0, 100)
         self.free_grid = as_flag(free_grid, "free_grid")
         self.reuse_contact = as_flag(reuse_contact, "reuse_contact")
+        self.time_budget = None if time_budget is None else as_duration(time_budget, "time_budget")
         self._compiled: dict[Structure, CompiledNLP] = {}
         self._models: dict[str, SymbolicModel] = {}
         self._lock = threading.Lock()
@@ -623,9 +669,22 @@ class OptimalControl(CompiledCache):
                 ``contact_retries=0``, also the window check's finding when that contact's
                 window needs more than the limits.
             InvalidInputError: An unsupported problem.
+            SolverError: With status :data:`BUDGET_SPENT`: the plan took its
+                ``time_budget``.
         """
+        with deadline(self._budget()):
+            return self._planned(problem, warm_start)
+
+    def _budget(self) -> float:
+        """The time budget [s] as a deadline length (inf: none)."""
+        return math.inf if self.time_budget is None else self.time_budget
+
+    def _planned(self, problem: Any, warm_start: Trajectory | None) -> Trajectory:
+        """:meth:`plan` within its deadline."""
         started = time.perf_counter()
         warm_start = _checked_warm_start(problem, warm_start)
+        if isinstance(problem, PoolStrike):  # before any contact search (_spec checks others)
+            self._strike_start_held(problem)
         tried: list[FloatArray] = []
         failure: SolverError | None = None
         # Re-planning from a previous pool solution: first its contact branch, if it still
@@ -653,7 +712,11 @@ class OptimalControl(CompiledCache):
             try:
                 traj = self._plan(problem, spec, warm_start)
             except SolverError as error:
-                if not isinstance(problem, PoolStrike) or spec.contact is None:
+                if (
+                    not isinstance(problem, PoolStrike)
+                    or spec.contact is None
+                    or error.status == BUDGET_SPENT
+                ):
                     raise
                 raised = self._alone_error(error, problem, spec.contact, searched=True)
                 raise raised from _cause(raised, error)
@@ -661,6 +724,7 @@ class OptimalControl(CompiledCache):
         # The contact search once as set, then once more over twice as many candidates for
         # branches it missed; a warm start fits the first branch only.
         for candidates in (self.contact_candidates, 2 * self.contact_candidates):
+            self._in_budget(failure, "the contact search")
             searched = time.perf_counter()
             try:
                 choices = contact_choices(
@@ -713,6 +777,7 @@ class OptimalControl(CompiledCache):
         """
         if failure is None or failure.status not in INFEASIBLE_STATUSES:
             return None
+        self._in_budget(failure, "the window check")
         try:
             return self._window_check(problem, choice.q)
         except OptrajError:
@@ -762,11 +827,12 @@ class OptimalControl(CompiledCache):
             if len(choices) == 1
             else f"each of the {len(choices)} contact configurations tried"
         )
+        remedy = "a slower strike or looser limits" if best.max_speed > 0.0 else "looser limits"
         return InfeasibleError(
             f"pool strike at {float(problem.speed):.3g} m/s: the strike window of {tried}, "
             f"with the approach into it and the stop after it, needs more than the joint "
-            f"limits ({self.solver} status {failure.status!r}); {best.describe()}: a slower "
-            f"strike may plan",
+            f"limits ({self.solver} status {failure.status!r}); {best.describe()}: {remedy} "
+            f"may plan",
             limit=best.limit,
             joint=best.joint,
             required=best.required,
@@ -795,6 +861,8 @@ class OptimalControl(CompiledCache):
         try:
             traj = self._plan(problem, _pool(problem, choice, warm_start), warm_start)
         except SolverError as error:
+            if error.status == BUDGET_SPENT:
+                raise
             return error
         traj.metadata["contact_attempts"] = attempt
         traj.metadata["contact_from_warm_start"] = from_warm_start
@@ -838,7 +906,8 @@ class OptimalControl(CompiledCache):
                 name="built",
             )
         started = time.perf_counter()
-        traj = self._solve(built)
+        with deadline(self._budget()):
+            traj = self._solve(built)
         return stamp(traj, self.name, started)
 
     # -- rounds of solve, verify, refine -----------------------------------------------------
@@ -895,7 +964,7 @@ class OptimalControl(CompiledCache):
             # Nothing but the grid to change: no torque rows, no moved bounds, no new rows.
             plain = not built.compiled.structure.torque_nodes and shrink is None
             ratios = self._torque_ratios(traj, spec)
-            more = [] if self.torque is False else self._torque_nodes(traj, ratios, built)
+            more = [] if self.torque is False else self._torque_nodes(traj, ratios, built, spec)
             misses = self._strike_misses(traj, problem, spec)
             strike_ok = not misses
             excess = None if position_rows else _position_excess(traj, spec.limits)
@@ -930,7 +999,9 @@ class OptimalControl(CompiledCache):
                     if expansions >= 2:
                         if row_margins is None:
                             row_margins = np.full((len(rows), spec.limits.n), torque_margin)
-                        row_margins = _tightened(row_margins, ratios[2] / spec.limits.effort)
+                        row_margins = _tightened(
+                            row_margins, ratios[2] / spec.limits.effort, _fixed_ratios(spec)
+                        )
                 elif set(more) <= set(rows):  # rows everywhere needed: keep more room
                     torque_margin = min(0.2, 2.0 * torque_margin + 0.01)
                 torque_nodes = tuple(sorted(set(torque_nodes) | set(more)))
@@ -990,12 +1061,19 @@ class OptimalControl(CompiledCache):
         traj: Trajectory,
         ratios: tuple[FloatArray, FloatArray, FloatArray] | None,
         built: OptimalControlProblem,
+        spec: _Spec,
     ) -> list[int]:
-        """Nodes to add torque rows at: around intervals where a torque nears its limit."""
+        """Nodes to add torque rows at: around intervals where a torque nears its limit.
+
+        None once every torque keeps within ``1 - torque_margin / 2`` of its limit, or within
+        what a fixed state of the problem itself needs of that joint's limit, if more (a
+        start holding 99 % of a limit against gravity: :func:`_fixed_room`).
+        """
         if ratios is None:
             return []
-        times, ratio, _ = ratios
-        if ratio.max() <= 1.0 - 0.5 * self.torque_margin:
+        times, ratio, tau = ratios
+        settled = np.maximum(1.0 - 0.5 * self.torque_margin, _fixed_ratios(spec))
+        if np.all(np.abs(tau) / spec.limits.effort <= settled):
             return []
         knots = traj.breakpoints
         hot = np.unique(
@@ -1243,7 +1321,9 @@ class OptimalControl(CompiledCache):
             params["time_scale"] = saved.time_scale  # the multipliers' objective
         p = parameter_vector(**params)
         if linear:  # expanded about the initial point: the previous solution or the guess
-            room = margin if row_margins is None else row_margins
+            room = _fixed_room(
+                spec, first, structure.torque_nodes, margin if row_margins is None else row_margins
+            )
             p = np.concatenate([p, torque_linearization(compiled, x0, room)])
         return OptimalControlProblem(
             problem=problem,
@@ -1328,7 +1408,12 @@ class OptimalControl(CompiledCache):
 
         Its ``error`` is set when the solver raised, did not succeed, or left a constraint
         group violated by more than 1e-6 (scaled).
+
+        Raises:
+            SolverError: Status :data:`BUDGET_SPENT`: the plan's deadline passed before or
+                during the call.
         """
+        self._in_budget(None, "a solve")
         with built.compiled.lock:
             started = time.perf_counter()
             try:
@@ -1347,18 +1432,36 @@ class OptimalControl(CompiledCache):
             wall = time.perf_counter() - started
             stats = solver.stats()
         w = np.asarray(result["x"]).reshape(-1)
-        violations = built.violations(w)
-        worst_group = max(violations, key=violations.get)
-        worst = violations[worst_group]
+        violations = built._violations(w)
+        worst = max(violations.values())
         failure = None
         if not stats.get("success", False) or not np.all(np.isfinite(w)) or worst > 1e-6:
             failure = SolverError(
                 self.solver,
                 str(stats.get("return_status", "unknown")),
                 iterations=int(stats.get("iter_count", -1)),
-                detail=f"most violated: {worst_group} by {worst:.3g} (scaled)",
+                detail=_diagnosis(built, w) if np.all(np.isfinite(w)) else "no finite point",
             )
+            self._in_budget(failure, "a solve")
         return _Call(w, result, stats, wall, worst, failure)
+
+    def _in_budget(self, failure: SolverError | None, what: str) -> None:
+        """Raise the budget's ``SolverError`` when this plan's deadline has passed.
+
+        Args:
+            failure: The last solver failure, whose finding the error repeats, or None.
+            what: What the deadline stopped, e.g. ``"a solve"``.
+        """
+        if time_left() > 0.0:
+            return
+        found = f"; the last solve failed: {failure}" if failure is not None else ""
+        raise SolverError(
+            self.solver,
+            BUDGET_SPENT,
+            iterations=None if failure is None else failure.iterations,
+            detail=f"the plan took its time_budget of {self._budget():.4g} s, which stopped "
+            f"{what}{found}; a larger time_budget, looser limits or an easier problem may plan",
+        )
 
     def _solve(self, built: OptimalControlProblem) -> Trajectory:
         compiled = built.compiled
@@ -1419,11 +1522,19 @@ class OptimalControl(CompiledCache):
     # -- problems ------------------------------------------------------------------------------
 
     def _spec(self, problem: Any) -> _Spec:
+        """The problem's phases, fixed states and guess; its fixed states' torques checked.
+
+        Raises:
+            InfeasibleError: A state the problem fixes (start, goal) needs more torque than
+                the effort limits (:func:`planners.lower_bound.check_state_torques`), unless
+                ``torque=False``; a strike no contact configuration can make.
+        """
         if isinstance(problem, PointToPoint):
-            return _point_to_point(problem)
+            return self._held(_point_to_point(problem))
         if isinstance(problem, Waypoints):
-            return _waypoints(problem)
+            return self._held(_waypoints(problem))
         if isinstance(problem, (PoolStrike, PaddleStrike)):
+            self._strike_start_held(problem)
             started = time.perf_counter()
             # The margin the NLP keeps from the velocity limits: a contact past it is refused
             # here, with its binding joint, instead of by an infeasible solve.
@@ -1441,6 +1552,90 @@ class OptimalControl(CompiledCache):
             f"{type(problem).__name__}",
             name="problem",
         )
+
+    def _held(self, spec: _Spec) -> _Spec:
+        """``spec``, once the torques of its fully fixed states are within the effort limits.
+
+        Raises:
+            InfeasibleError: One needs more (unless ``torque=False``, which plans without
+                torque limits).
+        """
+        if self.torque is not False:
+            last = len(spec.names) - 1
+            states = [
+                (_fixed_name(f, last), f.q, f.qd, f.qdd)
+                for f in spec.fixed
+                if f.q is not None and f.qd is not None and f.qdd is not None and not f.tolerance
+            ]
+            check_state_torques(spec.robot, spec.limits, states)
+        return spec
+
+    def _strike_start_held(self, problem: PoolStrike | PaddleStrike) -> None:
+        """Check a strike's start at rest before its contact choice (:meth:`_held`)."""
+        if self.torque is not False:
+            zeros = _zeros(problem.limits.n)
+            start = ("the start state (at rest)", problem.q_start, zeros, zeros)
+            check_state_torques(problem.robot, problem.limits, [start])
+
+
+def _fixed_room(
+    spec: _Spec, first: NDArray[np.int_], nodes: tuple[int, ...], margin: float | FloatArray
+) -> float | FloatArray:
+    """Torque row margins that a fully fixed state's own torques fit within.
+
+    The margin keeps room below the effort limits for the linear rows' expansion error and
+    for peaks between nodes; at a node whose state the problem fixes the torques are what
+    they are, and a margin past them would make the NLP infeasible at that node alone (a
+    start at rest holding 99 % of a limit against gravity, with a margin of 3 %).
+
+    Args:
+        spec: The problem's spec (its fixed states).
+        first: First node of each phase, and the last node, shape (phases + 1,).
+        nodes: The nodes with torque rows.
+        margin: One margin for every row, or one per row node and joint, shape
+            (len(nodes), n) [-].
+
+    Returns:
+        ``margin``, or per row node and joint with each fixed node's margin at most
+        ``1 - |tau| / effort`` there (at least 0).
+    """
+    index = {node: i for i, node in enumerate(nodes)}
+    room: FloatArray | None = None
+    for fixed in spec.fixed:
+        if fixed.q is None or fixed.qd is None or fixed.qdd is None or fixed.tolerance:
+            continue
+        node = int(first[fixed.phase] if fixed.at == "start" else first[fixed.phase + 1])
+        if node not in index:
+            continue
+        tau = spec.robot.inverse_dynamics(fixed.q, fixed.qd, fixed.qdd)
+        left = np.maximum(1.0 - np.abs(tau) / spec.limits.effort, 0.0)
+        if room is None:
+            room = np.array(np.broadcast_to(margin, (len(nodes), spec.limits.n)), dtype=float)
+        room[index[node]] = np.minimum(room[index[node]], left)
+    return margin if room is None else room
+
+
+def _fixed_ratios(spec: _Spec) -> FloatArray:
+    """Each joint's largest ``|tau| / effort`` over the problem's fully fixed states [-], (n,)."""
+    ratios = np.zeros(spec.limits.n)
+    for fixed in spec.fixed:
+        if fixed.q is None or fixed.qd is None or fixed.qdd is None or fixed.tolerance:
+            continue
+        tau = spec.robot.inverse_dynamics(fixed.q, fixed.qd, fixed.qdd)
+        ratios = np.maximum(ratios, np.abs(tau) / spec.limits.effort)
+    return ratios
+
+
+def _fixed_name(fixed: _Fixed, last: int) -> str:
+    """A fixed state in words: ``"the start state (at rest)"``, ``"the goal state"`` ..."""
+    if fixed.at == "start" and fixed.phase == 0:
+        name = "the start state"
+    elif fixed.at == "end" and fixed.phase == last:
+        name = "the goal state"
+    else:  # pragma: no cover - the problems fix no other full state
+        name = f"the state at the {fixed.at} of phase {fixed.phase}"
+    moving = np.any(np.asarray(fixed.qd) != 0.0) or np.any(np.asarray(fixed.qdd) != 0.0)
+    return name if moving else f"{name} (at rest)"
 
 
 def strike_caps(ratio: float, keep: float = 1.0) -> tuple[float, float]:
@@ -1461,12 +1656,8 @@ def strike_caps(ratio: float, keep: float = 1.0) -> tuple[float, float]:
         InvalidInputError: A ratio that is not a finite number >= 0, or ``keep`` outside
             (0, 1].
     """
-    value = float(as_array(ratio, "ratio", ()))
-    if not 0.0 <= value < math.inf:
-        raise InvalidInputError(f"ratio must be a finite number >= 0, got {ratio!r}", name="ratio")
-    room = float(as_array(keep, "keep", ()))
-    if not 0.0 < room <= 1.0:
-        raise InvalidInputError(f"keep must be in (0, 1], got {keep!r}", name="keep")
+    value = as_number(ratio, "ratio", minimum=0.0)
+    room = as_number(keep, "keep", minimum=0.0, maximum=1.0, open_minimum=True)
     return (
         min(room, STRIKE_VELOCITY_ROOM * value),
         min(room, STRIKE_ACCELERATION_ROOM * value * value),
@@ -1474,7 +1665,10 @@ def strike_caps(ratio: float, keep: float = 1.0) -> tuple[float, float]:
 
 
 def _tightened(
-    margins: FloatArray, ratio: FloatArray, per_interval: int = TORQUE_POINTS
+    margins: FloatArray,
+    ratio: FloatArray,
+    fixed: FloatArray | float = 0.0,
+    per_interval: int = TORQUE_POINTS,
 ) -> FloatArray:
     """Torque row margins after a round whose dense torques broke their limits.
 
@@ -1482,17 +1676,19 @@ def _tightened(
         margins: Margins of the rows at every node, shape (K + 1, n) [-].
         ratio: Signed torque over effort limit at ``per_interval`` points per interval and
             the last node (as :func:`_dense_times`), shape (per_interval K + 1, n) [-].
+        fixed: Per joint, the share of its limit a fixed state of the problem needs
+            (:func:`_fixed_ratios`), shape (n,) [-]: a peak up to it is no excess.
         per_interval: Points per interval in ``ratio``.
 
     Returns:
         The margins of both end nodes of an interval whose peak passes ``1 - margin / 2``
-        raised by that excess plus 0.005, at most 0.5.
+        (and ``fixed``) raised by that excess plus 0.005, at most 0.5.
     """
     size = np.abs(ratio)
     intervals = margins.shape[0] - 1
     inner = size[:-1].reshape(intervals, per_interval, -1).max(axis=1)
     peaks = np.maximum(inner, size[per_interval::per_interval])  # (K, n), ends included
-    excess = peaks - (1.0 - 0.5 * np.minimum(margins[:-1], margins[1:]))
+    excess = peaks - np.maximum(1.0 - 0.5 * np.minimum(margins[:-1], margins[1:]), fixed)
     bump = np.where(excess > 0.0, excess + 0.005, 0.0)
     raised = margins.copy()
     raised[:-1] = np.maximum(raised[:-1], margins[:-1] + bump)
@@ -1532,6 +1728,82 @@ def _constraint_duals(saved: WarmStart, compiled: CompiledNLP) -> FloatArray | N
                 base + n * j : base + n * (j + 1)
             ]
     return lam_g
+
+
+#: Names of the state parts the rows of :class:`planners.transcription.CompiledNLP` label.
+_PARTS = ("position", "velocity", "acceleration")
+#: A limit counts as binding at a solver's point when it uses this fraction of its bound [-].
+BINDING = 0.995
+
+
+def _diagnosis(built: OptimalControlProblem, w: FloatArray) -> str:
+    """What a failed solve's point breaks and which joint limits it presses, in words.
+
+    The most violated row, with its joint, its part (position, velocity or acceleration
+    step of the dynamics rows) and its interval or node in its phase; then the joint limits
+    the point holds at :data:`BINDING` or more of their bounds (velocity, acceleration and
+    jerk from the scaled node states and jerks, torques by the robot's inverse dynamics at
+    the nodes), the most used first. An infeasible NLP's point is where the solver found
+    the violation least: the limits it presses are the ones that keep the rows from being
+    met.
+    """
+    compiled, layout = built.compiled, built.compiled.layout
+    names = built.problem.limits.names
+    g = np.asarray(compiled.constraint_values(w, built.p)).reshape(-1)
+    excess = np.maximum(compiled.lbg - g, g - compiled.ubg)
+    bound_excess = float(np.max(np.maximum(built.lbx - w, w - built.ubx), initial=0.0))
+    row = int(np.argmax(excess)) if excess.size else -1
+    if row < 0 or bound_excess > excess[row]:
+        worst = f"the variable bounds by {bound_excess:.3g} (scaled)"
+    else:
+        group = next(name for name, a, b in compiled.groups if a <= row < b)
+        joint, part = int(compiled.row_joint[row]), int(compiled.row_part[row])
+        at = int(compiled.row_at[row])
+        what = group
+        if group == "dynamics" and part >= 0:
+            what += f" (the {_PARTS[part]} step)"
+        if joint >= 0:
+            what += f" of {names[joint]}"
+        if at >= 0:
+            interval = group in ("dynamics", "velocity between nodes", "position between nodes")
+            phase = int(layout.phase_of[min(at, layout.K - 1)])
+            first = int(layout.first_node[phase])
+            kind = "interval" if interval else "node"
+            what += f" at {kind} {at - first} of the {built.grids[phase].name} phase"
+        worst = f"{what} by {float(excess[row]):.3g} (scaled)"
+    mid, half, vel, acc, _ = compiled.scale
+    _, states, jerks = layout.split(w)
+    n = layout.n
+    keep = 1.0 - compiled.structure.margin
+    use = {
+        "velocity": np.abs(states[:, n : 2 * n]).max(axis=0) / keep,
+        "acceleration": np.abs(states[:, 2 * n :]).max(axis=0) / keep,
+        "jerk": np.abs(jerks).max(axis=0, initial=0.0) / keep,
+    }
+    effort = np.asarray(compiled.structure.limits[5])
+    try:
+        tau = built.problem.robot.inverse_dynamics(
+            mid + half * states[:, :n], vel * states[:, n : 2 * n], acc * states[:, 2 * n :]
+        )
+        use["torque"] = np.abs(tau).max(axis=0) / effort
+    except OptrajError:  # pragma: no cover - a point too far out for the dynamics
+        pass
+    pressed = sorted(
+        (
+            (float(ratio[j]), names[j], quantity)
+            for quantity, ratio in use.items()
+            for j in range(n)
+            if ratio[j] >= BINDING
+        ),
+        reverse=True,
+    )
+    if not pressed:
+        return f"most violated: {worst}; no joint limit is at its bound at the solver's point"
+    listed = ", ".join(
+        f"{joint} {quantity} at {ratio:.3g} of its limit" for ratio, joint, quantity in pressed[:4]
+    )
+    more = f" and {len(pressed) - 4} more" if len(pressed) > 4 else ""
+    return f"most violated: {worst}; binding at the solver's point: {listed}{more}"
 
 
 def _casadi_reason(message: str) -> str:

@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError, UnreachableError
-from optraj.validation import as_count
+from optraj.validation import as_count, as_number, as_vector
 from planners.base import stamp
 from planners.cartesian import follow_tool_path, limit_report, paddle_contact_velocity
 from planners.contact import choose_contact
@@ -39,6 +39,7 @@ from robots import JointLimits, Robot, solve_ik
 
 __all__ = [
     "CONTACTS",
+    "MAX_LINE_SAMPLES",
     "TimeOptimalStrike",
     "check_contact",
     "check_line",
@@ -65,6 +66,10 @@ BALL_CLEARANCE = 0.02
 RETREAT = 0.10
 #: The approach is checked for the clearance at least this often [s].
 _CLEARANCE_STEP = 1e-3
+
+#: Most IK samples of a strike line: one IK step each (about a millisecond), so 10,000 is
+#: some seconds; no line needs more than a few hundred (the planners use 10 to 60).
+MAX_LINE_SAMPLES = 10_000
 
 #: Where a pool strike's contact configuration comes from (:func:`contact_configuration`).
 CONTACTS: tuple[str, ...] = ("problem", "choose")
@@ -131,7 +136,7 @@ class TimeOptimalStrike:
                 f"approach must be 'ruckig' or 'toppra', got {approach!r}", name="approach"
             )
         self.approach = approach
-        self.samples = as_count(samples, "samples", 4)
+        self.samples = as_count(samples, "samples", 4, MAX_LINE_SAMPLES)
         self.contact = check_contact(contact)
 
     @property
@@ -294,7 +299,7 @@ def strike_line(
 
     Args:
         problem: The strike.
-        samples: IK samples along the line.
+        samples: IK samples along the line, in [1, :data:`MAX_LINE_SAMPLES`].
         q_contact: Configuration at contact [rad], shape (n,); the problem's when None.
 
     Returns:
@@ -302,9 +307,17 @@ def strike_line(
 
     Raises:
         UnreachableError: A pose on the line cannot be reached.
+        InvalidInputError: Not a pool strike, a bad sample count or contact configuration.
     """
+    if not isinstance(problem, PoolStrike):
+        raise InvalidInputError(
+            f"strike_line takes a PoolStrike, got {type(problem).__name__}", name="problem"
+        )
+    samples = as_count(samples, "samples", 1, MAX_LINE_SAMPLES)
     robot = problem.robot
-    contact = np.asarray(problem.q_contact if q_contact is None else q_contact, dtype=float)
+    contact = as_vector(
+        problem.q_contact if q_contact is None else q_contact, "q_contact", robot.dof
+    )
     direction = np.asarray(problem.direction)
     speed = float(problem.speed)
     rotation = robot.tool_pose(contact)[:3, :3]  # cue axis along the direction
@@ -344,7 +357,7 @@ def check_line(
         InfeasibleError: E.g. "the strike line at 1 m/s needs joint 'right_j2' at 2.165 rad/s
             (velocity), limit 1.957 rad/s (at its contact configuration)".
     """
-    subject = f"the strike line at {speed:.4g} m/s"
+    subject = f"the strike line at {as_number(speed, 'speed', 'm/s'):.4g} m/s"
     limit_report(line, robot, limits, (), subject, " (at its contact configuration)")
     knots = line.breakpoints
     fractions = np.linspace(0.0, 1.0, _LINE_SAMPLES, endpoint=False)

@@ -51,9 +51,12 @@ contact velocity are NLP parameters (:data:`PARAMETERS`).
 
 from __future__ import annotations
 
+import contextlib
 import functools
+import math
 import threading
-from collections.abc import Sequence
+import time
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -62,6 +65,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from optraj.errors import UnknownNameError
+from optraj.validation import as_vector
 from robots import JointLimits, SymbolicModel
 
 __all__ = [
@@ -73,12 +77,15 @@ __all__ = [
     "Rows",
     "Structure",
     "compile_nlp",
+    "deadline",
     "freeze_options",
     "jerk_step",
     "parameter_vector",
+    "stop_callback",
     "strike_node_rows",
     "structure_limits",
     "thaw_options",
+    "time_left",
     "torque_linearization",
     "torque_parameter_count",
 ]
@@ -108,17 +115,97 @@ PARAMETERS: tuple[tuple[str, int], ...] = (
 
 
 def parameter_vector(**values: Any) -> FloatArray:
-    """The parameter vector of :data:`PARAMETERS`; missing entries are zero (time_scale 1)."""
+    """The parameter vector of :data:`PARAMETERS`; missing entries are zero (time_scale 1).
+
+    Raises:
+        UnknownNameError: A name that is not one of :data:`PARAMETERS`.
+        InvalidInputError: A value that is not a finite number or vector of its size.
+    """
+    known = [name for name, _ in PARAMETERS]
+    unknown = sorted(set(values) - set(known))
+    if unknown:
+        raise UnknownNameError("NLP parameter", unknown[0], known)
     parts = []
     for name, size in PARAMETERS:
         default = 1.0 if name == "time_scale" else 0.0
-        value = np.asarray(values.pop(name, np.full(size, default)), dtype=float).reshape(-1)
-        if value.size != size:
-            raise ValueError(f"parameter {name} needs {size} values, got {value.size}")
-        parts.append(value)
-    if values:
-        raise ValueError(f"unknown parameters {sorted(values)}")
+        value = values.get(name, np.full(size, default))
+        parts.append(as_vector(np.reshape(value, -1) if np.ndim(value) == 0 else value, name, size))
     return np.concatenate(parts)
+
+
+#: The deadline of the solver calls made on each thread, as a ``time.perf_counter()`` value
+#: [s]; absent (no deadline) outside :func:`deadline`.
+_DEADLINE = threading.local()
+
+
+@contextlib.contextmanager
+def deadline(seconds: float) -> Iterator[None]:
+    """Solver calls on this thread inside the block stop ``seconds`` [s] from now.
+
+    A solver built with :func:`stop_callback` asks its solver to stop at the first iteration
+    past the deadline (IPOPT then returns ``User_Requested_Stop``); :func:`time_left` tells
+    the caller how much is left. Nested blocks keep the earlier deadline; ``math.inf`` sets
+    none.
+    """
+    previous = getattr(_DEADLINE, "at", math.inf)
+    _DEADLINE.at = min(previous, time.perf_counter() + seconds)
+    try:
+        yield
+    finally:
+        _DEADLINE.at = previous
+
+
+def time_left() -> float:
+    """Seconds until this thread's :func:`deadline` [s]; ``math.inf`` without one."""
+    return getattr(_DEADLINE, "at", math.inf) - time.perf_counter()
+
+
+class _Stop(ca.Callback):  # type: ignore[misc]
+    """An NLP solver's iteration callback: nonzero (stop) once the thread's deadline passed."""
+
+    def __init__(self, variables: int, constraints: int, parameters: int) -> None:
+        ca.Callback.__init__(self)
+        self._sizes = {
+            "x": variables,
+            "lam_x": variables,
+            "g": constraints,
+            "lam_g": constraints,
+            "lam_p": parameters,
+            "f": 1,
+        }
+        self.construct("optraj_deadline", {})
+
+    def get_n_in(self) -> int:
+        return int(ca.nlpsol_n_out())
+
+    def get_n_out(self) -> int:
+        return 1
+
+    def get_name_in(self, i: int) -> str:
+        return str(ca.nlpsol_out(i))
+
+    def get_name_out(self, i: int) -> str:
+        return "stop"
+
+    def get_sparsity_in(self, i: int) -> ca.Sparsity:
+        return ca.Sparsity.dense(self._sizes.get(ca.nlpsol_out(i), 0), 1)
+
+    def eval(self, arg: Sequence[Any]) -> list[float]:
+        return [1.0 if time_left() <= 0.0 else 0.0]
+
+
+def stop_callback(variables: int, constraints: int, parameters: int) -> ca.Callback:
+    """An ``iteration_callback`` for ``casadi.nlpsol`` that stops the solve at the deadline.
+
+    The solver keeps a reference only: the caller must keep the returned object alive as
+    long as the solver.
+
+    Args:
+        variables: Decision variables of the NLP.
+        constraints: Constraint rows.
+        parameters: Parameters.
+    """
+    return _Stop(variables, constraints, parameters)
 
 
 def jerk_step(h: Any, q: Any, v: Any, a: Any, u: Any) -> tuple[Any, Any, Any]:
@@ -242,6 +329,13 @@ class CompiledNLP:
         torque_expansion: ``z (3n, m) -> (t (n, m), J (n, 3n m))``: the torques over the
             effort limits at m scaled node states and their Jacobians, for linear torque
             rows (None without them).
+        row_joint: Joint index of each row of ``g``, -1 for a row of no one joint (the
+            strike line's), shape (m,).
+        row_part: Which part of a joint's state a row is about (0 position, 1 velocity,
+            2 acceleration; the dynamics rows' step of that part), shape (m,).
+        row_at: The interval (dynamics and between-node rows) or node (torque, strike
+            rows) of each row, -1 for none, shape (m,).
+        stopper: The solvers' iteration callback (:func:`stop_callback`), kept alive here.
         lock: Serialises calls of the solvers.
     """
 
@@ -259,6 +353,10 @@ class CompiledNLP:
     constraint_values: ca.Function
     torque_expansion: ca.Function | None = None
     warm_solver: ca.Function | None = None
+    row_joint: NDArray[np.intp] = field(default_factory=lambda: np.zeros(0, np.intp))
+    row_part: NDArray[np.intp] = field(default_factory=lambda: np.zeros(0, np.intp))
+    row_at: NDArray[np.intp] = field(default_factory=lambda: np.zeros(0, np.intp))
+    stopper: ca.Callback | None = None
     lock: threading.Lock = field(default_factory=threading.Lock)
 
     @functools.cached_property
@@ -329,27 +427,63 @@ def thaw_options(value: Any) -> Any:
 def _nlpsol(compiled: CompiledNLP, options: dict[str, Any]) -> ca.Function:
     nlp = {"x": compiled.w, "p": compiled.p, "f": compiled.f, "g": compiled.g}
     thawed = {k: thaw_options(v) for k, v in options.items()}
+    if compiled.stopper is None:
+        compiled.stopper = stop_callback(
+            int(compiled.w.numel()), int(compiled.g.numel()), int(compiled.p.numel())
+        )
+    thawed.setdefault("iteration_callback", compiled.stopper)
     return ca.nlpsol("optraj_ocp", compiled.structure.solver, nlp, thawed)
 
 
 class Rows:
-    """Constraint rows collected group by group."""
+    """Constraint rows collected group by group, each labelled with its joint and place."""
 
     def __init__(self) -> None:
         self.rows: list[ca.SX] = []
         self.lower: list[FloatArray] = []
         self.upper: list[FloatArray] = []
         self.groups: list[tuple[str, int, int]] = []
+        self.joint: list[NDArray[np.intp]] = []
+        self.part: list[NDArray[np.intp]] = []
+        self.at: list[NDArray[np.intp]] = []
         self.count = 0
 
-    def add(self, name: str, expr: ca.SX, lower: float | FloatArray, upper: float | FloatArray):
-        """Rows ``lower <= expr <= upper`` (bounds broadcast), in group ``name``."""
+    def add(
+        self,
+        name: str,
+        expr: ca.SX,
+        lower: float | FloatArray,
+        upper: float | FloatArray,
+        *,
+        joints: int = 0,
+        parts: Sequence[int] = (),
+        at: int = -1,
+    ) -> None:
+        """Rows ``lower <= expr <= upper`` (bounds broadcast), in group ``name``.
+
+        Args:
+            name: The group.
+            expr: The row expressions (any shape; taken column by column).
+            lower: Lower bounds, broadcast to the rows.
+            upper: Upper bounds, broadcast to the rows.
+            joints: With n > 0, the rows come in blocks of one row per joint (row i is
+                joint ``i % n``'s); 0 for rows of no one joint.
+            parts: The state part of each block (0 position, 1 velocity, 2 acceleration),
+                one entry per block; none given: -1.
+            at: The interval or node the rows belong to, -1 for none.
+        """
         size = int(expr.numel())
         if size == 0:
             return
         self.rows.append(ca.vec(expr))
         self.lower.append(np.broadcast_to(np.asarray(lower, float).reshape(-1), (size,)))
         self.upper.append(np.broadcast_to(np.asarray(upper, float).reshape(-1), (size,)))
+        index = np.arange(size, dtype=np.intp)
+        self.joint.append(index % joints if joints else np.full(size, -1, np.intp))
+        blocks = index // joints if joints else index
+        part = np.asarray(parts, dtype=np.intp)
+        self.part.append(part[blocks] if part.size else np.full(size, -1, np.intp))
+        self.at.append(np.full(size, at, np.intp))
         if self.groups and self.groups[-1][0] == name and self.groups[-1][2] == self.count:
             self.groups[-1] = (name, self.groups[-1][1], self.count + size)
         else:
@@ -481,14 +615,28 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
             ca.vertcat((q1 - q_next) / half, (v1 - v_next) / vel, (a1 - a_next) / acc),
             0.0,
             0.0,
+            joints=n,
+            parts=(0, 1, 2),
+            at=k,
         )
-        rows.add("velocity between nodes", (v0 + hk / 2 * a0) / vel, -keep, keep)
+        rows.add(
+            "velocity between nodes",
+            (v0 + hk / 2 * a0) / vel,
+            -keep,
+            keep,
+            joints=n,
+            parts=(1,),
+            at=k,
+        )
         if structure.position_rows:
             rows.add(
                 "position between nodes",
                 ca.vertcat((q0 + hk / 3 * v0 - mid) / half, (q1 - hk / 3 * v1 - mid) / half),
                 -1.0,
                 1.0,
+                joints=n,
+                parts=(0, 0),
+                at=k,
             )
         if weights.get("jerk", 0.0):
             cost += weights["jerk"] * hk * ca.sumsqr(zu) / (n * time_scale)
@@ -508,7 +656,8 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
         for i, node in enumerate(structure.torque_nodes):
             block = p[base + i * size : base + (i + 1) * size]
             z = node_state(node)
-            rows.add("torque", block[:n] + ca.reshape(block[n:], n, 3 * n) @ z, -1.0, 1.0)
+            row = block[:n] + ca.reshape(block[n:], n, 3 * n) @ z
+            rows.add("torque", row, -1.0, 1.0, joints=n, at=node)
         if structure.torque_nodes:
             z = ca.SX.sym("z", 3 * n)
             t = rnea(*physical(z)) / effort
@@ -518,7 +667,7 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
         for node in structure.torque_nodes:
             tau = rnea(*state(node)) / effort
             limit = 1.0 - structure.torque_margin
-            rows.add("torque", tau, -limit, limit)
+            rows.add("torque", tau, -limit, limit, joints=n, at=node)
 
     g = ca.vertcat(*rows.rows)
     compiled = CompiledNLP(
@@ -535,6 +684,9 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
         solver=None,  # type: ignore[arg-type]
         constraint_values=ca.Function("constraint_values", [w, p], [g]),
         torque_expansion=expansion,
+        row_joint=np.concatenate(rows.joint),
+        row_part=np.concatenate(rows.part),
+        row_at=np.concatenate(rows.at),
     )
     compiled.solver = _nlpsol(compiled, dict(structure.options))
     return compiled
@@ -561,7 +713,7 @@ def _strike_rows(
     for j, node in enumerate(range(first, last + 1)):
         q, qd, _ = state(node)
         target = entry + params["speed"] * ca.sum1(ca.vertcat(0, *h[first : first + j])) * d
-        strike_node_rows(rows, tool, params, q, qd, target, node in (first, last))
+        strike_node_rows(rows, tool, params, q, qd, target, node in (first, last), node)
 
 
 def strike_node_rows(
@@ -572,6 +724,7 @@ def strike_node_rows(
     qd: ca.SX,
     target: ca.SX,
     at_end: bool,
+    node: int = -1,
 ) -> None:
     """The strike line's rows at one node, shared by the NLP and the window check.
 
@@ -587,15 +740,17 @@ def strike_node_rows(
         qd: Joint velocities [rad/s or m/s].
         target: The tip's place on the schedule [m].
         at_end: Whether the node is the window's first or last.
+        node: The node's index, to label the rows with (-1: none).
     """
     position, rotation, jacobian = tool
     d, e1, e2 = params["direction"], params["e1"], params["e2"]
-    rows.add("strike position", position(q) - target, 0.0, 0.0)
+    rows.add("strike position", position(q) - target, 0.0, 0.0, at=node)
     z = rotation(q)[:, 2]
-    rows.add("strike axis", ca.vertcat(ca.dot(e1, z), ca.dot(e2, z)), 0.0, 0.0)
-    rows.add("strike axis sign", ca.dot(d, z), 0.0, np.inf)
+    rows.add("strike axis", ca.vertcat(ca.dot(e1, z), ca.dot(e2, z)), 0.0, 0.0, at=node)
+    rows.add("strike axis sign", ca.dot(d, z), 0.0, np.inf, at=node)
     if at_end:
-        rows.add("strike speed", jacobian(q)[:3, :] @ qd - params["speed"] * d, 0.0, 0.0)
+        speed = jacobian(q)[:3, :] @ qd - params["speed"] * d
+        rows.add("strike speed", speed, 0.0, 0.0, at=node)
 
 
 def _contact_rows(

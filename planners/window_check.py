@@ -21,10 +21,12 @@ free joint states at both ends, solved for
     \Big|\dot q_{K,i} + \frac{\ddot q_{K,i} |\ddot q_{K,i}|}{2 \dddot q_{\max,i}}\Big|
     \le s\, \dot q_{\max,i}
 
-with the positions inside their limits. The last two rows are the approach and the stop: a
-joint's acceleration changes no faster than its jerk limit, so a joint that enters the window
-slowing down was faster by at least :math:`\ddot q^2 / (2 \dddot q_{\max})` before it, and
-one that leaves it speeding up gets that much faster after it. Without them the window of
+with the positions inside their limits, and the torques at the nodes (the robot's inverse
+dynamics, gravity included) within :math:`s` times the effort limits. The last two rows
+are the approach and the stop: a joint's acceleration changes no faster than its jerk limit,
+so a joint that enters the window slowing down was faster by at least
+:math:`\ddot q^2 / (2 \dddot q_{\max})` before it, and one that leaves it speeding up gets
+that much faster after it. Without them the window of
 strike benchmark ball 0 at 1.5 m/s needed 0.997 of the limits, yet its whole NLP stayed
 infeasible (even with both ends free) up to limits 1.01 times as large and planned at 1.02;
 with them the window needs 1.019. The optimum :math:`s^*` is the least fraction of the
@@ -37,11 +39,17 @@ explain its error, never to refuse a strike it has not tried to solve.
 A joint motion run :math:`\lambda` times faster along the same path needs :math:`\lambda`,
 :math:`\lambda^2` and :math:`\lambda^3` times the velocities, accelerations and jerks, and
 at most :math:`\lambda` times the run-out velocities when :math:`\lambda \le 1` (their
-acceleration term scales with :math:`\lambda^4`); so the optimum's peak ratios
-:math:`(r_v, r_a, r_j)` give a slower strike speed whose motion keeps within the limits,
-:math:`v \min(r_v^{-1}, r_a^{-1/2}, r_j^{-1/3})` (:attr:`WindowRatio.max_speed`), and the
-quantity with the least factor is the one that binds. Above the strike speed (a window
-within the limits) the same formula is an estimate: faster, the run-outs grow by more.
+acceleration term scales with :math:`\lambda^4`), and torques
+:math:`\tau_g + \lambda^2 (\tau - \tau_g)` (:math:`\tau_g` the gravity torques of the same
+configuration: inertial and Coriolis terms scale with :math:`\lambda^2`). So the optimum's
+peak ratios :math:`(r_v, r_a, r_j)` and its torques give a slower strike speed whose motion
+keeps within the limits, :math:`v \min(r_v^{-1}, r_a^{-1/2}, r_j^{-1/3}, \lambda_\tau)` with
+:math:`\lambda_\tau^2 = \min (\tau_{\max} - |\tau_g|) / |\tau - \tau_g|` over the nodes and
+joints (:attr:`WindowRatio.max_speed`; 0 when gravity alone needs more than an effort limit,
+which no slower strike helps), and the quantity with the least factor is the one that binds.
+Above the strike speed (a window within the limits) the same formula is an estimate: faster,
+the run-outs grow by more. At the strike's own speed, limits :attr:`WindowRatio.ratio` times
+as large are the least scale the window can keep within.
 """
 
 from __future__ import annotations
@@ -72,11 +80,14 @@ FloatArray = NDArray[np.float64]
 #: 1.5 m/s its optimum moved by at most 0.8 % from 8 to 24 intervals, and a solve at 8 took
 #: about half the time of one at 16 (30 to 40 ms).
 WINDOW_INTERVALS = 8
+#: Most intervals of the window NLP: each adds a node's kinematics and dynamics to it, and
+#: past some hundreds its build takes minutes for no better answer.
+MAX_WINDOW_INTERVALS = 200
 #: Most IPOPT iterations of one window NLP; the solves that converge take 16 to 30.
 WINDOW_ITERATIONS = 300
 #: IPOPT statuses whose point is a local optimum of the window NLP.
 CONVERGED_STATUSES = frozenset({"Solve_Succeeded", "Solved_To_Acceptable_Level"})
-QUANTITIES = ("velocity", "acceleration", "jerk")
+QUANTITIES = ("velocity", "acceleration", "jerk", "effort")
 
 
 @dataclass(frozen=True)
@@ -84,19 +95,23 @@ class WindowRatio:
     """The least fraction of the joint limits a strike window was found to need.
 
     Attributes:
-        ratio: Largest of ``velocity``, ``acceleration`` and ``jerk`` [-].
+        ratio: Largest of ``velocity``, ``acceleration``, ``jerk`` and ``effort``: at the
+            strike's speed, the least factor on the limits that lets the window keep within
+            them [-].
         velocity: Largest ``|qd_i| / qd_max_i`` at the optimum over the window, between the
             nodes too, and just before and after it (:func:`run_out`) [-].
         acceleration: Largest ``|qdd_i| / qdd_max_i`` [-].
         jerk: Largest ``|jerk_i| / jerk_max_i`` [-].
-        limit: The quantity that caps the speed first (``"velocity"``, ``"acceleration"`` or
-            ``"jerk"``).
+        effort: Largest ``|tau_i| / tau_max_i`` at the nodes [-].
+        limit: The quantity that caps the speed first (``"velocity"``, ``"acceleration"``,
+            ``"jerk"`` or ``"effort"``).
         joint: The joint with the largest ratio of ``limit``.
         required: That joint's peak of ``limit`` [``unit``].
         allowed: Its limit [``unit``].
         unit: The unit of ``required`` and ``allowed``, e.g. ``"rad/s^2"``.
         max_speed: Strike speed at which the optimum's joint path, run slower, keeps within
-            the limits; above the strike speed an estimate (module docstring) [m/s].
+            the limits; above the strike speed an estimate (module docstring); 0 when gravity
+            alone needs more than an effort limit on that path [m/s].
         status: IPOPT's return status.
         iterations: IPOPT iterations.
     """
@@ -105,6 +120,7 @@ class WindowRatio:
     velocity: float
     acceleration: float
     jerk: float
+    effort: float
     limit: str
     joint: str
     required: float
@@ -124,13 +140,19 @@ class WindowRatio:
         return self.converged and self.ratio > keep
 
     def describe(self) -> str:
-        """The binding joint, quantity and the window's ratios, in words."""
+        """The binding joint, quantity, the window's ratios and what would plan, in words."""
+        slower = (
+            f"keeps within them run at {self.max_speed:.4g} m/s"
+            if self.max_speed > 0.0
+            else "no slower strike keeps within them (gravity alone needs more torque)"
+        )
         return (
             f"the window check's best strike window needs {self.joint} at {self.required:.4g} "
-            f"{self.unit}, {100.0 * self.ratio:.1f} % of its {self.limit} limit "
-            f"{self.allowed:.4g} {self.unit} (peaks: velocity {100.0 * self.velocity:.1f} %, "
-            f"acceleration {100.0 * self.acceleration:.1f} %, jerk {100.0 * self.jerk:.1f} % "
-            f"of the limits), and keeps within them run at {self.max_speed:.4g} m/s"
+            f"{self.unit}, {100.0 * self.required / self.allowed:.1f} % of its {self.limit} "
+            f"limit {self.allowed:.4g} {self.unit} (peaks: velocity "
+            f"{100.0 * self.velocity:.1f} %, acceleration {100.0 * self.acceleration:.1f} %, "
+            f"jerk {100.0 * self.jerk:.1f} %, effort {100.0 * self.effort:.1f} % of the "
+            f"limits), {slower}, or at this speed with limits {self.ratio:.4g} times as large"
         )
 
 
@@ -150,14 +172,15 @@ class WindowCheck(CompiledCache):
     """The window NLP of a pool strike (module docstring); picklable, one solver per robot.
 
     Args:
-        intervals: Intervals of constant jerk over the window.
-        max_iterations: Most IPOPT iterations of one solve.
+        intervals: Intervals of constant jerk over the window, in [2,
+            :data:`MAX_WINDOW_INTERVALS`].
+        max_iterations: Most IPOPT iterations of one solve, >= 1.
     """
 
     def __init__(
         self, intervals: int = WINDOW_INTERVALS, max_iterations: int = WINDOW_ITERATIONS
     ) -> None:
-        self.intervals = as_count(intervals, "intervals", 2)
+        self.intervals = as_count(intervals, "intervals", 2, MAX_WINDOW_INTERVALS)
         self.max_iterations = as_count(max_iterations, "max_iterations", 1)
         self._compiled: dict[tuple[Any, ...], _Compiled] = {}
         self._lock = threading.Lock()
@@ -220,25 +243,35 @@ class WindowCheck(CompiledCache):
             )
         states = w[: (k + 1) * 3 * n].reshape(k + 1, 3 * n)
         jerks = w[(k + 1) * 3 * n : -1].reshape(k, n)
+        q_nodes = compiled.mid + compiled.half * states[:, :n]
+        tau = problem.robot.inverse_dynamics(
+            q_nodes, vel * states[:, n : 2 * n], acc * states[:, 2 * n :]
+        )
+        gravity = problem.robot.gravity_torque(q_nodes)
+        effort = np.asarray(limits.effort)
         peaks = (
             _velocity_peaks(states, jerks, h, compiled.scale),
             np.abs(states[:, 2 * n :]).max(axis=0),  # linear on an interval: nodes suffice
             np.abs(jerks).max(axis=0),
+            (np.abs(tau) / effort).max(axis=0),
         )
         tops = [float(peak.max()) for peak in peaks]
-        # The speed factor each quantity allows: velocity ~ v, acceleration ~ v^2, jerk ~ v^3.
+        # The speed factor each quantity allows: velocity ~ v, acceleration ~ v^2, jerk ~ v^3,
+        # the torques' inertial and Coriolis part ~ v^2 on top of gravity.
         factors = [
             math.inf if top <= 0.0 else top ** (-1.0 / power)
-            for power, top in enumerate(tops, start=1)
+            for power, top in enumerate(tops[:3], start=1)
         ]
+        factors.append(_effort_factor(tau, gravity, effort))
         which = int(np.argmin(factors))
         joint = int(np.argmax(peaks[which]))
-        allowed = float((vel, acc, jerk)[which][joint])
+        allowed = float((vel, acc, jerk, effort)[which][joint])
         return WindowRatio(
             ratio=max(tops),
             velocity=tops[0],
             acceleration=tops[1],
             jerk=tops[2],
+            effort=tops[3],
             limit=QUANTITIES[which],
             joint=limits.names[joint],
             required=float(peaks[which][joint]) * allowed,
@@ -258,6 +291,26 @@ class WindowCheck(CompiledCache):
             with self._lock:
                 compiled = self._compiled.setdefault(key, compiled)
         return compiled
+
+
+def _effort_factor(tau: FloatArray, gravity: FloatArray, effort: FloatArray) -> float:
+    """The largest speed factor ``lam`` <= inf with ``|g| + lam^2 |tau - g| <= effort`` [-].
+
+    Args:
+        tau: Torques at the nodes [N m or N], shape (k + 1, n).
+        gravity: The gravity torques of the same configurations, shape (k + 1, n).
+        effort: Effort limits, shape (n,).
+
+    Returns:
+        0 when gravity alone passes a limit somewhere; inf when nothing moves.
+    """
+    room = effort - np.abs(gravity)
+    if np.any(room < 0.0):
+        return 0.0
+    moving = np.abs(tau - gravity)
+    with np.errstate(divide="ignore"):
+        squares = np.where(moving > 0.0, room / moving, math.inf)
+    return float(math.sqrt(squares.min()))
 
 
 def run_out(
@@ -326,10 +379,11 @@ def _compile(robot: Robot, limits: JointLimits, k: int, max_iterations: int) -> 
     """The window NLP: node states and jerks scaled by the limits, then the slack ``s``."""
     symbolic = SymbolicModel(robot)
     lower, upper = np.asarray(limits.lower), np.asarray(limits.upper)
-    vel, acc, jerk = (
+    vel, acc, jerk, effort = (
         np.asarray(limits.velocity),
         np.asarray(limits.acceleration),
         np.asarray(limits.jerk),
+        np.asarray(limits.effort),
     )
     n = lower.size
     mid, half = 0.5 * (lower + upper), 0.5 * (upper - lower)
@@ -355,6 +409,7 @@ def _compile(robot: Robot, limits: JointLimits, k: int, max_iterations: int) -> 
         return mid + half * z[:n], vel * z[n : 2 * n], acc * z[2 * n :], z
 
     cost = s
+    rnea = symbolic.rnea()
     for node in range(k + 1):
         q, qd, qdd, z = state(node)
         strike_node_rows(rows, tool, line, q, qd, entry + speed * h * node * d, node in (0, k))
@@ -362,6 +417,7 @@ def _compile(robot: Robot, limits: JointLimits, k: int, max_iterations: int) -> 
             # The approach into the window and the stop after it (module docstring).
             within(run_out(qd, qdd, jerk, -1.0 if node == 0 else 1.0) / vel)
         within(z[n:])
+        within(rnea(q, qd, qdd) / effort)
         if node == k:
             break
         zu = w[(k + 1) * 3 * n + node * n : (k + 1) * 3 * n + (node + 1) * n]

@@ -11,7 +11,12 @@ from conftest import get_robot
 
 import problems
 from optraj.errors import InfeasibleError, InvalidInputError
-from planners.lower_bound import joint_min_durations, lower_bound, lower_bound_va
+from planners.lower_bound import (
+    check_state_torques,
+    joint_min_durations,
+    lower_bound,
+    lower_bound_va,
+)
 from planners.lspb import LSPB
 from planners.ruckig_planner import Ruckig
 
@@ -83,6 +88,34 @@ def test_jerk_free_closed_form_rejects_bad_values():
         lower_bound_va([1.0, np.inf], 1.0, 1.0)
     with pytest.raises(InvalidInputError, match="broadcast"):
         lower_bound_va([1.0, 2.0, 3.0], [1.0, 1.0], 1.0)
+    # No bool or string posing as a number.
+    with pytest.raises(InvalidInputError, match="vmax"):
+        lower_bound_va(1.0, True, 1.0)
+    with pytest.raises(InvalidInputError, match="delta"):
+        lower_bound_va("1.0", 1.0, 1.0)
+
+
+def test_a_prescribed_state_past_the_effort_limits_names_the_joint_and_the_scale():
+    robot = get_robot("sawyer")
+    q = robot.home
+    zeros = np.zeros(robot.dof)
+    gravity = np.abs(robot.gravity_torque(q))
+    limits = robot.limits.scaled(0.05, ("effort",))
+    joint = int(np.argmax(gravity / limits.effort))
+    with pytest.raises(InfeasibleError, match="the start state needs joint") as info:
+        check_state_torques(robot, limits, [("the start state", q, zeros, zeros)])
+    error = info.value
+    assert (error.limit, error.joint) == ("effort", robot.limits.names[joint])
+    assert error.required == pytest.approx(gravity[joint], rel=1e-9)
+    assert error.allowed == pytest.approx(limits.effort[joint])
+    assert f"{gravity[joint] / limits.effort[joint]:.4g} times as large" in str(error)
+    # Exactly at the limits it holds; a moving state counts its inertial torques too.
+    exact = dataclasses.replace(robot.limits, effort=np.maximum(gravity, 1e-3))
+    check_state_torques(robot, exact, [("the start state", q, zeros, zeros)])
+    with pytest.raises(InfeasibleError, match="the goal state"):
+        check_state_torques(robot, exact, [("the goal state", q, zeros, np.ones(robot.dof))])
+    with pytest.raises(InvalidInputError, match="qd"):
+        check_state_torques(robot, exact, [("the start state", q, [0.0], zeros)])
 
 
 def test_problem_and_keyword_forms_agree_for_state_to_state_moves():

@@ -12,6 +12,8 @@ import numpy as np
 import pytest
 from conftest import get_robot
 
+import planners.optimal_control as optimal_control
+import planners.transcription as transcription
 import problems
 import robots
 from optraj.errors import (
@@ -28,12 +30,14 @@ from optraj.errors import (
 from planners import Quintic, Trajectory, check, lower_bound
 from planners.contact import BRANCH_SPREAD, ContactChoice
 from planners.optimal_control import (
+    BUDGET_SPENT,
     INFEASIBLE_STATUSES,
     POSITION_SHRINKS,
     SHRINK_EXTRA,
     OptimalControl,
     WarmStart,
     _constraint_duals,
+    _diagnosis,
     _integrable,
     _near_the_limit,
     _position_excess,
@@ -217,7 +221,8 @@ def test_a_strike_whose_window_needs_more_than_the_limits_is_refused_with_the_wi
     assert "with the approach into it and the stop after it, needs more than the" in str(error)
     slower = float(re.search(r"run at ([0-9.]+) m/s", str(error))[1])
     assert 1.0 < slower < 1.5
-    assert str(error).endswith("a slower strike may plan")
+    assert str(error).endswith("a slower strike or looser limits may plan")
+    assert re.search(r"or at this speed with limits [0-9.]+ times as large", str(error))
     # The finding is marked as the window check's, with the slower speed it names.
     assert error.found_by == WINDOW_CHECK
     assert error.max_speed == pytest.approx(slower, rel=1e-3)
@@ -241,6 +246,7 @@ def _window(ratio: float, status: str = "Solve_Succeeded") -> WindowRatio:
         velocity=ratio,
         acceleration=0.5,
         jerk=0.25,
+        effort=0.3,
         limit="velocity",
         joint="right_j3",
         required=1.957 * ratio,
@@ -604,14 +610,99 @@ def test_constraint_duals_carry_over_where_only_the_torque_rows_differ():
 
 
 def test_a_torque_limit_gravity_alone_breaks_is_infeasible():
+    # The goal at rest needs its gravity torques, twice the limits: refused before any solve,
+    # with the joint and the factor on the effort limits a plan needs at least.
     robot = get_robot("youbot")
     q0 = robot.home
     q1 = q0 + 0.5 * (robot.limits.upper - q0)
     gravity = np.abs(robot.gravity_torque(q1))
     limits = dataclasses.replace(robot.limits, effort=np.maximum(0.5 * gravity, 1e-3))
     problem = problems.PointToPoint(robot, q0, q1, limits=limits)
-    with pytest.raises((InfeasibleError, SolverError)):
+    with pytest.raises(InfeasibleError, match=r"the goal state \(at rest\) needs joint") as info:
         OptimalControl("time").plan(problem)
+    joint = robot.limits.names.index(info.value.joint)
+    assert info.value.limit == "effort"
+    assert info.value.required == pytest.approx(gravity[joint], rel=1e-9)
+    assert "times as large" in str(info.value)
+
+
+def _overloaded_pool_shot() -> problems.PoolStrike:
+    """Issue 32's shot: 0.07 m/s on Sawyer with acceleration, jerk and effort limits at 5 %."""
+    shot = problems.sawyer_pool_shot(0.07)
+    limits = shot.robot.limits.scaled(0.05, ("acceleration", "jerk", "effort"))
+    return problems.PoolStrike(shot.robot, shot.ball, shot.direction, 0.07, limits=limits)
+
+
+def test_a_strike_whose_start_gravity_overloads_is_refused_before_any_search(monkeypatch):
+    # At rest at home Sawyer's shoulder holds 16.7 N m against gravity, 4.2 times its 5 %
+    # effort limit: no motion from there keeps the limits, so neither a contact search nor a
+    # solve runs (the search and the solves took 84 s to a SolverError naming only a group).
+    def searched(*args, **kwargs):
+        raise AssertionError("the contact search ran")
+
+    monkeypatch.setattr(optimal_control, "contact_choices", searched)
+    monkeypatch.setattr(optimal_control, "choose_contact", searched)
+    problem = _overloaded_pool_shot()
+    gravity = np.abs(problem.robot.gravity_torque(problem.q_start))
+    with pytest.raises(
+        InfeasibleError, match=r"start state \(at rest\) needs joint 'right_j1'"
+    ) as info:
+        OptimalControl().plan(problem)
+    error = info.value
+    assert (error.limit, error.joint, error.allowed) == ("effort", "right_j1", pytest.approx(4.0))
+    assert error.required == pytest.approx(gravity[1], rel=1e-9)
+    assert f"effort limits at least {gravity[1] / 4.0:.4g} times as large" in str(error)
+    with pytest.raises(InfeasibleError, match="start state"):  # build() says the same
+        OptimalControl().build(problem)
+
+
+@pytest.mark.parametrize("torque", ["auto", True])
+def test_a_start_holding_nearly_its_effort_limit_keeps_no_torque_margin_there(torque):
+    # The start holds 99 % of right_j1's effort limit against gravity, more than the 3 %
+    # torque margin leaves: the rows at the start node keep the room the state leaves, and
+    # the rounds settle once the other torques are within the margin.
+    robot = get_robot("sawyer")
+    q0 = robot.home
+    effort = robot.limits.effort.copy()
+    effort[1] = abs(robot.gravity_torque(q0)[1]) / 0.99
+    limits = dataclasses.replace(robot.limits, effort=effort)
+    q1 = q0.copy()
+    q1[0] += 0.3  # a turn about the vertical base joint: right_j1's gravity torque stays
+    problem = problems.PointToPoint(robot, q0, q1, limits=limits)
+    traj = OptimalControl(torque=torque).plan(problem)
+    assert check(traj, problem).ok
+
+
+def test_a_plan_past_its_time_budget_raises_a_solver_error_that_names_it():
+    with pytest.raises(SolverError, match=r"time_budget of 1e-06 s") as info:
+        OptimalControl(time_budget=1e-6).plan(_paddle_move())
+    assert info.value.status == BUDGET_SPENT
+
+
+def test_a_budget_spent_inside_a_solve_stops_it_and_no_contact_retry_swallows_it(monkeypatch):
+    # The planner's deadline check lets the first solve start; the solver's iteration callback
+    # then finds the deadline past and stops it at its first iteration.
+    checks = iter([1.0, 1.0])
+    monkeypatch.setattr(optimal_control, "time_left", lambda: next(checks, -1.0))
+    monkeypatch.setattr(transcription, "time_left", lambda: -1.0)
+    problem = next(_shots(1, speed=1.0))
+    with pytest.raises(SolverError, match="User_Requested_Stop") as info:
+        OptimalControl(contact_retries=2).plan(problem)
+    assert info.value.status == BUDGET_SPENT and info.value.iterations == 0
+
+
+def test_a_failed_solve_names_its_most_violated_row_by_joint_and_place():
+    move = _paddle_move()
+    built = OptimalControl().build(move)
+    layout = built.compiled.layout
+    w = built.x0.copy()
+    jerk = w[layout.u_index(2)]  # a view: interval 2's scaled jerks
+    joint = int(np.argmin(np.abs(jerk)))
+    jerk[joint] += 0.05  # breaks interval 2's dynamics rows of that joint only
+    text = _diagnosis(built, w)
+    name = move.limits.names[joint]
+    pattern = rf"most violated: dynamics \(the \w+ step\) of {name} at interval 2 of the move phase"
+    assert re.match(pattern, text), text
 
 
 def test_a_fixed_duration_shorter_than_the_limits_allow_is_infeasible():
@@ -826,6 +917,11 @@ def test_solver_failure_carries_status_and_most_violated_group():
     with pytest.raises(SolverError, match=r"Maximum_Iterations_Exceeded.*most violated") as info:
         OptimalControl("time", max_iterations=2).plan(problem)
     assert info.value.solver == "ipopt" and info.value.iterations == 2
+    # The row's place, never only its group; the joint limits the point holds, if any.
+    assert re.search(
+        r"most violated: [\w ()]+ at (node|interval) \d+ of the \w+ phase", str(info.value)
+    )
+    assert "binding at the solver's point" in str(info.value) or "no joint limit" in str(info.value)
 
 
 def test_solvers_by_name():
@@ -887,6 +983,18 @@ def test_sqpmethod_plans_a_small_move_with_nested_solver_options():
         ({"max_interval": 1e-6}, "max_interval must be > 0.0001 s"),
         ({"intervals": {"bogus": 5}}, "intervals names a phase 'bogus'"),
         ({"intervals": {"segment 0": 5}}, "intervals names a phase 'segment 0'"),
+        ({"intervals": 10**6}, "intervals must be an integer <= 400"),
+        ({"time_budget": "5"}, "time_budget"),
+        ({"time_budget": True}, "time_budget"),
+        ({"time_budget": -1.0}, "time_budget must be >= 1e-06 s"),
+        ({"time_budget": 1e9}, "time_budget must be <= 86400 s"),
+        ({"margin": "0.1"}, "margin"),
+        ({"margin": 0.5}, "margin must be < 0.5"),
+        ({"stretch": True}, "stretch"),
+        ({"stretch": 0.5}, "stretch must be >= 1"),
+        ({"tolerance": 10.0}, "tolerance must be <= 1"),
+        ({"step": 1e300}, "step must be <= 86400 s"),
+        ({"objective": {"time": -1.0}}, "objective weight 'time' must be >= 0"),
     ],
 )
 def test_bad_options_raise_typed_errors(kwargs, name):

@@ -147,3 +147,20 @@ def test_bad_arguments():
             make(contact="nearest")  # type: ignore[arg-type]
     with pytest.raises(InvalidInputError, match="PoolStrike or a PaddleStrike"):
         TimeOptimalStrike().plan(problems.youbot_two_blocks())
+
+
+@pytest.mark.parametrize("samples", [True, 2.5, "60", 0, 10**6])
+def test_strike_line_sample_counts_are_typed_and_bounded(samples):
+    problem = problems.sawyer_pool_shot(1.0)
+    with pytest.raises(InvalidInputError, match="samples"):
+        strike_line(problem, samples)
+    with pytest.raises(InvalidInputError, match="samples"):
+        TimeOptimalStrike(samples=samples)
+
+
+def test_strike_line_names_a_bad_contact_configuration_and_problem():
+    problem = problems.sawyer_pool_shot(1.0)
+    with pytest.raises(InvalidInputError, match="q_contact"):
+        strike_line(problem, 10, q_contact=np.zeros(3))
+    with pytest.raises(InvalidInputError, match="PoolStrike"):
+        strike_line(problems.seed_paddle_strike(), 10)

@@ -7,17 +7,19 @@ import numpy as np
 import pytest
 from conftest import get_robot
 
-from optraj.errors import UnknownNameError
+from optraj.errors import InvalidInputError, UnknownNameError
 from planners.transcription import (
     PARAMETERS,
     FrozenOptions,
     Layout,
     Structure,
     compile_nlp,
+    deadline,
     freeze_options,
     parameter_vector,
     structure_limits,
     thaw_options,
+    time_left,
     torque_linearization,
     torque_parameter_count,
 )
@@ -115,10 +117,42 @@ def test_layout_splits_what_it_indexes():
 
 def test_parameter_vector_names_what_is_wrong():
     assert parameter_vector().size == sum(size for _, size in PARAMETERS)
-    with pytest.raises(ValueError, match="speed"):
+    with pytest.raises(InvalidInputError, match="speed"):
         parameter_vector(speed=[1.0, 2.0])
-    with pytest.raises(ValueError, match="unknown"):
+    with pytest.raises(UnknownNameError, match="unknown NLP parameter 'velocity'"):
         parameter_vector(velocity=1.0)
+    for bad in (True, "1.0", np.nan):  # no bool, string or NaN posing as a speed
+        with pytest.raises(InvalidInputError, match="speed"):
+            parameter_vector(speed=bad)
+
+
+def test_rows_are_labelled_with_their_joint_part_and_place():
+    _, compiled = _compiled()
+    n, layout = compiled.layout.n, compiled.layout
+    # Interval k's dynamics rows: position, velocity and acceleration steps of every joint.
+    rows = np.concatenate([np.arange(a, b) for name, a, b in compiled.groups if name == "dynamics"])
+    assert compiled.row_joint[rows].tolist() == list(range(n)) * 3 * layout.K
+    assert compiled.row_part[rows].tolist() == ([0] * n + [1] * n + [2] * n) * layout.K
+    assert compiled.row_at[rows].tolist() == np.repeat(np.arange(layout.K), 3 * n).tolist()
+    assert compiled.row_joint.size == compiled.lbg.size == compiled.row_at.size
+
+
+def test_a_solve_past_its_deadline_is_stopped_by_the_iteration_callback():
+    _, compiled = _compiled()
+    rng = np.random.default_rng(3)
+    w = _exact_motion(compiled, rng)
+    args = {"x0": w, "p": parameter_vector(), "lbg": compiled.lbg, "ubg": compiled.ubg}
+    assert time_left() == np.inf
+    with deadline(-1.0):  # already past
+        assert time_left() < 0.0
+        compiled.solver(**args)
+    stats = compiled.solver.stats()
+    assert stats["return_status"] == "User_Requested_Stop" and stats["iter_count"] == 0
+    with deadline(3600.0), deadline(7200.0):  # the nearer deadline holds
+        assert 3500.0 < time_left() <= 3600.0
+        compiled.solver(**args)
+    assert compiled.solver.stats()["return_status"] != "User_Requested_Stop"
+    assert time_left() == np.inf
 
 
 def _node_torques(robot, compiled, w, nodes):

@@ -47,7 +47,7 @@ def test_the_window_check_asks_no_more_than_a_planned_strike_window():
     assert window.converged
     planned = max(_window_peaks(traj, problem))
     assert 0.1 < window.ratio <= planned + 1e-3
-    assert window.ratio == max(window.velocity, window.acceleration, window.jerk)
+    assert window.ratio == max(window.velocity, window.acceleration, window.jerk, window.effort)
     assert window.max_speed > problem.speed  # within the limits, so faster is possible
 
 
@@ -67,6 +67,28 @@ def test_a_window_past_the_limits_names_the_quantity_and_a_slower_speed():
     scaled = (window.velocity * factor, window.acceleration * factor**2, window.jerk * factor**3)
     assert 0.0 < factor < 1.0 and max(scaled) == pytest.approx(1.0)
     assert f"{window.max_speed:.4g} m/s" in window.describe()
+    # The binding joint's own share of its limit, and the limit scale that would do at speed.
+    share = 100.0 * window.required / window.allowed
+    assert f"{share:.1f} % of its {window.limit} limit" in window.describe()
+    assert f"limits {window.ratio:.4g} times as large" in window.describe()
+
+
+def test_a_window_that_gravity_overloads_names_effort_and_a_limit_scale():
+    # A slow shot with Sawyer's effort limits at 21 %: the arm, held out over the ball for the
+    # whole 2 s window, needs more shoulder torque than that, at any slower speed too.
+    sawyer = problems.sawyer_pool_shot(0.07)
+    limits = sawyer.robot.limits.scaled(0.21, ("effort",))
+    problem = problems.PoolStrike(sawyer.robot, sawyer.ball, sawyer.direction, 0.07, limits=limits)
+    window = WindowCheck()(problem, choose_contact(problem).q)
+    assert window.converged and window.exceeds()
+    assert (window.limit, window.joint) == ("effort", "right_j1")
+    assert window.effort == pytest.approx(window.ratio) and window.ratio > 1.2
+    joint = limits.names.index("right_j1")
+    assert window.allowed == pytest.approx(limits.effort[joint])
+    assert window.unit == "N m" and window.required > window.allowed
+    assert window.max_speed == 0.0
+    assert "no slower strike keeps within them" in window.describe()
+    assert f"limits {window.ratio:.4g} times as large" in window.describe()
 
 
 def test_the_window_check_pickles_and_answers_the_same():
