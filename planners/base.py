@@ -17,9 +17,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from optraj.errors import InvalidInputError
-from optraj.validation import as_vector
+from optraj.validation import as_duration, as_vector
 from planners.trajectory import Phase, Trajectory
 from problems import PointToPoint
+from problems.point_to_point import is_still, still_error
 from robots import JointLimits
 
 __all__ = ["CompiledCache", "JointProfile", "Planner", "rest_to_rest_inputs", "stamp"]
@@ -106,7 +107,8 @@ class JointProfile(ABC):
 
         Raises:
             InvalidInputError: The problem is not a PointToPoint, or it starts or ends moving
-                (this profile plans rest-to-rest moves).
+                (this profile plans rest-to-rest moves), or its goal equals its start and it
+                has no duration (:meth:`problems.PointToPoint.require_motion`).
         """
         if not isinstance(problem, PointToPoint):
             raise InvalidInputError(
@@ -126,6 +128,7 @@ class JointProfile(ABC):
                     f"{np.round(np.asarray(values), 6).tolist()} is not zero",
                     name=label,
                 )
+        problem.require_motion(self.name)
         started = time.perf_counter()
         traj = self.move(problem.q_start, problem.q_goal, problem.limits, problem.duration)
         traj = Trajectory(
@@ -139,20 +142,39 @@ class JointProfile(ABC):
 
 
 def rest_to_rest_inputs(
-    q_start: ArrayLike, q_goal: ArrayLike, limits: JointLimits, duration: float | None
+    q_start: ArrayLike,
+    q_goal: ArrayLike,
+    limits: JointLimits,
+    duration: float | None,
+    planner: str | None = None,
 ) -> tuple[np.ndarray, np.ndarray, float | None]:
     """Validate the arguments of :meth:`JointProfile.move`.
 
+    Args:
+        q_start: Start positions [rad or m], shape (n,).
+        q_goal: Goal positions [rad or m], shape (n,).
+        limits: The limits (their joint count n).
+        duration: Fixed duration [s], or None.
+        planner: When given, the name of a planner that refuses a move without a duration
+            whose goal equals its start (the rule of
+            :meth:`problems.PointToPoint.require_motion`); None leaves that to the caller.
+
     Returns:
-        (q_start, q_goal, duration) as arrays of shape (n,) and a float > 0 or None.
+        (q_start, q_goal, duration) as arrays of shape (n,) and a float in
+        [MIN_DURATION, MAX_DURATION] s or None.
 
     Raises:
-        InvalidInputError: Wrong shapes, non-finite values, or a duration <= 0.
+        InvalidInputError: Wrong shapes, non-finite values, a duration that is not a number
+            in range, or (with ``planner``) a still move without a duration.
     """
+    if not isinstance(limits, JointLimits):
+        raise InvalidInputError(
+            f"limits must be a robots.JointLimits, got {type(limits).__name__}", name="limits"
+        )
     start = as_vector(q_start, "q_start", limits.n)
     goal = as_vector(q_goal, "q_goal", limits.n)
     if duration is not None:
-        duration = float(duration)
-        if not np.isfinite(duration) or duration <= 0.0:
-            raise InvalidInputError(f"duration must be > 0 s, got {duration!r}", name="duration")
+        duration = as_duration(duration, "duration")
+    elif planner is not None and is_still(start, goal):
+        raise still_error(planner)
     return start, goal, duration

@@ -32,15 +32,17 @@ from optraj.errors import (
     UnknownNameError,
     UnreachableError,
 )
-from optraj.validation import as_array, as_positive, as_vector
+from optraj.validation import as_array, as_count, as_duration, as_positive, as_vector
 from planners.base import stamp
 from planners.checker import Report, check
 from planners.trajectory import Phase, Trajectory
 from problems import CartesianLine, PaddleStrike
+from problems.common import MAX_TOOL_SPEED
 from robots import JointLimits, Robot, solve_ik
 from robots.paddle_ik import BALL_OFFSET
 
 __all__ = [
+    "MAX_IK_SAMPLES",
     "CartesianStraightLine",
     "LinearTrajectory",
     "follow_tool_path",
@@ -58,6 +60,9 @@ _LSPB_BLEND = 0.25
 #: A joint this close to a position limit [rad or m] counts as on it (our choice: far above the
 #: 1e-9 the inverse kinematics converges to, far below a joint's step between samples).
 _AT_LIMIT = 1e-6
+#: Most samples a tool path may be followed at: each is one inverse-kinematics solve (about a
+#: millisecond), so this many take minutes, where a line needs a few hundred.
+MAX_IK_SAMPLES = 100_000
 #: How far a joint path may pass a position limit before it is refused [rad or m] (round-off).
 _POSITION_SLACK = 1e-9
 
@@ -318,11 +323,11 @@ class CartesianStraightLine:
         on_jump: Literal["raise", "warn"] = "raise",
     ) -> None:
         path_scaling(profile, 0.0)  # validates the name
-        if isinstance(samples, bool) or not isinstance(samples, int) or samples < 10:
-            raise InvalidInputError(f"samples must be an integer >= 10, got {samples!r}")
         self.profile = profile
-        self.samples = samples
-        self.jump_threshold = as_positive(jump_threshold, "jump_threshold")
+        self.samples = as_count(samples, "samples", 10, maximum=MAX_IK_SAMPLES)
+        self.jump_threshold = as_positive(jump_threshold, "jump_threshold", "rad or m")
+        if on_jump not in ("raise", "warn"):
+            raise UnknownNameError("on_jump policy", str(on_jump), ["raise", "warn"])
         self.on_jump = on_jump
 
     @property
@@ -463,7 +468,10 @@ class LinearTrajectory:
             raise InvalidInputError("start and end must differ", name="end")
         object.__setattr__(self, "start", start)
         object.__setattr__(self, "end", end)
-        object.__setattr__(self, "speed", as_positive(self.speed, "speed", "m/s"))
+        speed = as_positive(self.speed, "speed", "m/s", maximum=MAX_TOOL_SPEED)
+        object.__setattr__(self, "speed", speed)
+        # |end - start| / speed: a line too slow (or too short) for a trajectory's duration
+        as_duration(float(np.linalg.norm(end - start)) / speed, "the line's |end - start| / speed")
         rotation = as_array(self.orientation, "orientation", (3, 3))
         if np.max(np.abs(rotation.T @ rotation - np.eye(3))) > 1e-6:
             raise InvalidInputError("orientation must be a rotation matrix", name="orientation")
@@ -496,8 +504,14 @@ class LinearTrajectory:
         """The line as a joint trajectory over [0, T] (IK of the tool pose, orientation held).
 
         The result starts and ends at full speed, as the seed's line does.
+
+        Args:
+            robot: The robot.
+            q_start: Configuration [rad or m] near the start pose; the IK starts there.
+            samples: Intervals along the line, each one IK solve, in [1, MAX_IK_SAMPLES].
         """
-        times = np.linspace(0.0, self.duration, samples + 1)
+        count = as_count(samples, "samples", 1, maximum=MAX_IK_SAMPLES)
+        times = np.linspace(0.0, self.duration, count + 1)
         position, velocity, acceleration = self.sample(times)
         poses = np.repeat(np.eye(4)[None], times.size, axis=0)
         poses[:, :3, :3] = self.orientation

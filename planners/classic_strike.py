@@ -50,6 +50,7 @@ from numpy.typing import NDArray
 from optraj.errors import InfeasibleError, InvalidInputError
 from optraj.validation import as_count
 from planners.base import stamp
+from planners.cartesian import MAX_IK_SAMPLES
 from planners.lspb import LSPB
 from planners.strike import check_contact, check_line, contact_configuration, strike_line
 from planners.time_scaling import (
@@ -61,6 +62,7 @@ from planners.time_scaling import (
 )
 from planners.trajectory import Trajectory, TrajectorySample
 from problems import PoolStrike
+from problems.point_to_point import is_still
 from robots import JointLimits
 
 __all__ = ["PROFILES", "ClassicStrike", "shortest_duration"]
@@ -115,7 +117,7 @@ class ClassicStrike:
                 value=profile,
             )
         self.profile: Literal["cubic", "quintic", "lspb"] = profile
-        self.samples = as_count(samples, "samples", 4)
+        self.samples = as_count(samples, "samples", 4, maximum=MAX_IK_SAMPLES)
         self.contact = check_contact(contact)
 
     def __repr__(self) -> str:
@@ -164,15 +166,17 @@ class ClassicStrike:
         exit_state = line.sample(line.duration)
         extra: dict[str, object] = {"profile": self.profile, **contact}
         if self.profile == "lspb":
-            approach = LSPB().move(problem.q_start, entry.q, limits)
+            # already at the entry pose (the goal equals the start): no approach move
+            still = is_still(problem.q_start, entry.q)
+            approach = [] if still else [LSPB().move(problem.q_start, entry.q, limits)]
             brake = Trajectory.constant(exit_state.q, HOLD_TIME)
             extra["entry_velocity_jump"] = float(np.max(np.abs(entry.qd)))
             extra["exit_velocity_jump"] = float(np.max(np.abs(exit_state.qd)))
         else:
-            approach = self._approach(np.asarray(problem.q_start, dtype=float), entry, limits)
+            approach = [self._approach(np.asarray(problem.q_start, dtype=float), entry, limits)]
             brake = self._stop(exit_state, limits)
         traj = Trajectory.sequence(
-            [("approach", [approach]), ("strike", [line]), ("stop", [brake])],
+            [("approach", approach), ("strike", [line]), ("stop", [brake])],
             joint_names=limits.names,
         )
         return stamp(traj, self.name, started, **extra)

@@ -46,7 +46,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import CONTACT_CHOICE, InfeasibleError, InvalidInputError, SolverError
-from optraj.validation import as_array, as_count, as_vector
+from optraj.validation import as_array, as_count, as_number, as_vector
 from problems import PaddleStrike, PoolStrike
 from problems.common import normal_pair, unit_vector
 from robots import JointLimits, Robot, solve_ik
@@ -770,11 +770,8 @@ def contact_choices(
     """
     wanted = as_count(count, "count", 1, MAX_CANDIDATES)
     searched = as_count(candidates, "candidates", 1, MAX_CANDIDATES)
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise InvalidInputError(f"seed must be an integer >= 0, got {seed!r}", name="seed")
-    reserve = float(as_array(margin, "margin", ()))
-    if not 0.0 <= reserve < 1.0:
-        raise InvalidInputError(f"margin must be in [0, 1), got {reserve:.6g}", name="margin")
+    as_count(seed, "seed", 0, maximum=None)
+    reserve = _margin(margin)
     if isinstance(problem, PoolStrike):
         tried = _configurations(exclude, "exclude", problem.limits.n)
         return tuple(_rank_pool(problem, searched, int(seed), reserve, wanted, tried))
@@ -901,6 +898,14 @@ def _configurations(value: Sequence[ArrayLike] | None, name: str, n: int) -> lis
     return [as_vector(q, f"{name}[{k}]", n) for k, q in enumerate(value)]
 
 
+def _margin(value: float) -> float:
+    """A share of the velocity limits kept in reserve, in [0, 1) (no bool, no string)."""
+    reserve = as_number(value, "margin", minimum=0.0)
+    if not reserve < 1.0:
+        raise InvalidInputError(f"margin must be in [0, 1), got {reserve:.6g}", name="margin")
+    return reserve
+
+
 def contact_near(problem: PoolStrike, q: ArrayLike, *, margin: float = 0.0) -> ContactChoice | None:
     """The pool contact configuration on the IK branch of q, if it has room to spare.
 
@@ -927,9 +932,7 @@ def contact_near(problem: PoolStrike, q: ArrayLike, *, margin: float = 0.0) -> C
         )
     seed = as_vector(q, "q", problem.limits.n)
     problem.limits.check_position(seed, context="contact_near q")
-    reserve = float(as_array(margin, "margin", ()))
-    if not 0.0 <= reserve < 1.0:
-        raise InvalidInputError(f"margin must be in [0, 1), got {reserve:.6g}", name="margin")
+    reserve = _margin(margin)
     search = _PoolSearch(problem)
     found = search._near(search.to_contact, seed)
     window = None if found is None else search.window(found)

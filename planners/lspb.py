@@ -29,6 +29,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError
+from optraj.validation import (
+    MAX_DURATION,
+    MIN_DURATION,
+    as_array,
+    as_duration,
+    as_flag,
+    as_number,
+)
 from planners.base import JointProfile, rest_to_rest_inputs, stamp
 from planners.trajectory import Trajectory
 from robots import JointLimits
@@ -76,14 +84,15 @@ class LSPBTiming(NamedTuple):
 
 
 def _array(value: ArrayLike, name: str) -> FloatArray:
-    """``value`` as a finite float array (any shape), or InvalidInputError naming it."""
+    """``value`` as a finite float array (any shape), or InvalidInputError naming it.
+
+    No bools or strings: :func:`optraj.validation.as_array` checks it at its own shape.
+    """
     try:
-        array = np.array(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise InvalidInputError(f"{name} must be numeric, got {value!r}", name=name) from exc
-    if not np.all(np.isfinite(array)):
-        raise InvalidInputError(f"{name} must be finite, got {array}", name=name, value=value)
-    return array
+        shape = np.shape(value)
+    except ValueError:  # ragged nesting: as_array reports it
+        shape = (None,)
+    return as_array(value, name, tuple(shape))
 
 
 def _positive_array(value: ArrayLike, name: str) -> FloatArray:
@@ -95,19 +104,13 @@ def _positive_array(value: ArrayLike, name: str) -> FloatArray:
 
 
 def _positive_scalar(value: float, name: str) -> float:
-    """``value`` as a finite float > 0 [s]."""
-    number = _array(value, name)
-    if number.ndim != 0 or not number > 0.0:
-        raise InvalidInputError(f"{name} must be a number > 0 s, got {value!r}", name=name)
-    return float(number)
+    """``value`` as a time [s] in [MIN_DURATION, MAX_DURATION] (a duration or a blend)."""
+    return as_duration(value, name)
 
 
 def _non_negative_scalar(value: float, name: str) -> float:
-    """``value`` as a finite float >= 0 [s]."""
-    number = _array(value, name)
-    if number.ndim != 0 or not number >= 0.0:
-        raise InvalidInputError(f"{name} must be a number >= 0 s, got {value!r}", name=name)
-    return float(number)
+    """``value`` as a time [s] in [0, MAX_DURATION] (a cruise time may be 0)."""
+    return as_number(value, name, "s", minimum=0.0, maximum=MAX_DURATION)
 
 
 def _broadcast(*arrays: FloatArray) -> list[FloatArray]:
@@ -468,10 +471,7 @@ class LSPB(JointProfile):
         self.cruise_time = (
             None if cruise_time is None else _non_negative_scalar(cruise_time, "cruise_time")
         )
-        if not isinstance(check_limits, bool):
-            raise InvalidInputError(
-                f"check_limits must be True or False, got {check_limits!r}", name="check_limits"
-            )
+        check_limits = as_flag(check_limits, "check_limits")
         if not check_limits and blend_time is None and cruise_time is None:
             raise InvalidInputError(
                 "check_limits=False applies only with a fixed blend_time or cruise_time; "
@@ -575,25 +575,17 @@ class LSPB(JointProfile):
         duration: float | None,
     ) -> tuple[FloatArray, FloatArray, LSPBTiming, list[str]]:
         """Start, goal, timing and the messages of any limit it breaks (check_limits=False)."""
-        if not isinstance(limits, JointLimits):
-            raise InvalidInputError(
-                f"limits must be a robots.JointLimits, got {type(limits).__name__}",
-                name="limits",
-            )
-        start, goal, duration = rest_to_rest_inputs(q_start, q_goal, limits, duration)
+        # refuses, as every planner does, a still move without a duration
+        start, goal, duration = rest_to_rest_inputs(q_start, q_goal, limits, duration, self.name)
         delta = goal - start
         dist = np.abs(delta)
         vmax, amax = limits.velocity, limits.acceleration
         units = limits.kinds
-        if duration is None and not np.any(dist > 0.0):
-            raise InvalidInputError(
-                "q_goal equals q_start, so the fastest move lasts 0 s: give a duration to hold "
-                "still",
-                name="q_goal",
-            )
         if self.blend_time is None and self.cruise_time is None:
             if duration is None:
-                duration = float(np.max(lspb_min_time(delta, vmax, amax).duration))
+                # a tiny move lasts MIN_DURATION, the shortest duration any planner takes
+                fastest = float(np.max(lspb_min_time(delta, vmax, amax).duration))
+                duration = max(fastest, MIN_DURATION)
             timing = lspb_shortest_blend(
                 delta, amax, duration, v_max=vmax, names=limits.names, units=units
             )
@@ -619,7 +611,7 @@ class LSPB(JointProfile):
         if duration is None:
             # The closed-form T is exact in real numbers; when a tiny displacement makes
             # T - tb cancel, step T up by a few ulps until the rounded timing fits too.
-            duration = shortest
+            duration = max(shortest, MIN_DURATION)  # as for the fastest move above
             for _ in range(64):
                 if not _excess(fixed(delta, duration, tb), vmax, amax):
                     break

@@ -18,6 +18,7 @@ import pinocchio as pin
 from numpy.typing import NDArray
 
 from optraj.errors import InvalidInputError, MissingDependencyError, UnknownNameError
+from optraj.validation import as_count
 from planners.trajectory import Trajectory
 from robots import JointLimits, Robot
 
@@ -91,6 +92,12 @@ def plot_profiles(
                 f"trajectory {label!r} has {trajectory.dof} joints, the limits {limits.n}",
                 name="trajectories",
             )
+    if isinstance(quantities, str):  # would be iterated letter by letter
+        raise InvalidInputError(
+            f"quantities must be a sequence of names, got {quantities!r}; "
+            f"write ({quantities!r},) for one",
+            name="quantities",
+        )
     wanted = list(quantities)
     for quantity in wanted:
         if quantity not in _QUANTITIES:
@@ -181,6 +188,11 @@ def joint_origins(robot: Robot, q: FloatArray) -> FloatArray:
     return np.array(points)
 
 
+#: Most stick figures :func:`plot_robot` draws: each is one forward-kinematics pass and one
+#: line, and far fewer already fill a view.
+MAX_FIGURES = 1000
+
+
 def plot_robot(robot: Robot, trajectory: Trajectory, *, count: int = 8, ax: Any = None) -> Any:
     """The arm as stick figures at ``count`` instants, with the tool path (static 3-D view).
 
@@ -200,8 +212,7 @@ def plot_robot(robot: Robot, trajectory: Trajectory, *, count: int = 8, ax: Any 
         InvalidInputError: A count below 2, or a trajectory for another joint count.
         MissingDependencyError: matplotlib is not installed.
     """
-    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 2:
-        raise InvalidInputError(f"count must be an integer >= 2, got {count!r}", name="count")
+    count = as_count(count, "count", 2, maximum=MAX_FIGURES)
     if trajectory.dof != robot.dof:
         raise InvalidInputError(
             f"the trajectory has {trajectory.dof} joints, robot {robot.name!r} has {robot.dof}",

@@ -14,11 +14,13 @@ import time
 import numpy as np
 
 from optraj.errors import InvalidInputError
+from optraj.validation import as_count, as_duration
 from planners.base import stamp
-from planners.cartesian import LinearTrajectory
+from planners.cartesian import MAX_IK_SAMPLES, LinearTrajectory
 from planners.time_scaling import Cubic
 from planners.trajectory import Trajectory
 from problems import PoolStrike
+from problems.point_to_point import is_still
 from robots import solve_ik
 
 __all__ = ["SeedStrike"]
@@ -31,7 +33,11 @@ class SeedStrike:
         pull_back_time: Duration of the pull-back move [s]; the shortest cubic within the
             velocity and acceleration limits when None.
         hold_time: How long to hold still after the line [s].
-        samples: IK samples along the line.
+        samples: IK samples along the line, in [1, MAX_IK_SAMPLES].
+
+    Raises:
+        InvalidInputError: A time that is not a duration in [MIN_DURATION, MAX_DURATION] s,
+            or a sample count that is not an integer in range.
     """
 
     name = "seed (pull back + line)"
@@ -40,10 +46,8 @@ class SeedStrike:
         self, pull_back_time: float | None = None, hold_time: float = 0.2, samples: int = 100
     ) -> None:
         self.pull_back = Cubic(duration=pull_back_time)
-        if not hold_time > 0.0:
-            raise InvalidInputError(f"hold_time must be > 0 s, got {hold_time!r}", name="hold_time")
-        self.hold_time = float(hold_time)
-        self.samples = int(samples)
+        self.hold_time = as_duration(hold_time, "hold_time")
+        self.samples = as_count(samples, "samples", 1, maximum=MAX_IK_SAMPLES)
 
     def plan(self, problem: PoolStrike) -> Trajectory:
         """Pull back to the entry pose, strike along the line, hold.
@@ -62,7 +66,9 @@ class SeedStrike:
         q_entry = solve_ik(
             robot, problem.entry_point, axis=problem.direction, q_near=problem.q_contact
         ).q
-        pull_back = self.pull_back.move(problem.q_start, q_entry, limits)
+        # already at the entry pose (the goal equals the start): no pull-back move
+        still = self.pull_back.duration is None and is_still(problem.q_start, q_entry)
+        pull_back = [] if still else [self.pull_back.move(problem.q_start, q_entry, limits)]
         line = LinearTrajectory(
             problem.entry_point,
             problem.exit_point,
@@ -73,7 +79,7 @@ class SeedStrike:
         q_exit = strike.sample(strike.duration).q
         hold = Trajectory.constant(q_exit, self.hold_time)
         traj = Trajectory.sequence(
-            [("pull back", [pull_back]), ("strike", [strike]), ("stop", [hold])],
+            [("pull back", pull_back), ("strike", [strike]), ("stop", [hold])],
             joint_names=robot.joint_names,
         )
         return stamp(traj, self.name, started, q_entry=np.round(q_entry, 6).tolist())

@@ -11,6 +11,7 @@ from planners.base import JointProfile, stamp
 from planners.time_scaling import Quintic
 from planners.trajectory import Trajectory
 from problems import PickAndPlace
+from problems.point_to_point import is_still
 
 __all__ = ["PickAndPlacePlanner"]
 
@@ -61,7 +62,7 @@ class PickAndPlacePlanner:
 
         def move(target: np.ndarray) -> list[Trajectory]:
             nonlocal current
-            if np.allclose(current, target, atol=1e-12, rtol=0.0):
+            if is_still(current, target):  # already there: no move (it would last 0 s)
                 return []
             part = self.profile.move(current, target, limits)
             current = np.asarray(target)

@@ -9,13 +9,13 @@ peaks are evaluated exactly at the roots of the derivative polynomials.
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError
+from optraj.validation import MIN_DURATION, as_duration
 from planners.base import JointProfile, rest_to_rest_inputs, stamp
 from planners.cartesian import paddle_contact_velocity
 from planners.trajectory import Phase, Trajectory
@@ -214,9 +214,7 @@ class _Polynomial(JointProfile):
 
     def __init__(self, duration: float | None = None) -> None:
         """Args: duration: Fixed duration [s] for every move, or None (shortest in limits)."""
-        if duration is not None and not (math.isfinite(duration) and duration > 0.0):
-            raise InvalidInputError(f"duration must be > 0 s, got {duration!r}", name="duration")
-        self.duration = duration
+        self.duration = None if duration is None else as_duration(duration, "duration")
 
     # -- to be provided by the subclasses
     def _coefficients(
@@ -251,7 +249,8 @@ class _Polynomial(JointProfile):
 
         Rest to rest, q(t) = q0 + (q1 - q0) s(t / T) for a fixed shape s, so the k-th
         derivative peaks scale exactly as 1 / T^k: one evaluation at T = 1 gives T. With
-        moving ends the shape changes with T: doubling, then bisection.
+        moving ends the shape changes with T: doubling, then bisection. A rest-to-rest move
+        lasts at least MIN_DURATION [s].
         """
         if all(not np.any(value) for value in boundary.values()):
             peaks = polynomial_peaks(self._coefficients(q0, q1, 1.0, boundary), 1.0)
@@ -262,7 +261,8 @@ class _Polynomial(JointProfile):
             ]
             shortest = float(max(needs))
             if shortest > 0.0:
-                return shortest * (1.0 + 1e-12)
+                # a tiny move lasts MIN_DURATION, the shortest duration any planner takes
+                return max(shortest * (1.0 + 1e-12), MIN_DURATION)
         high = 1e-3
         while failure := self._check(self._coefficients(q0, q1, high, boundary), high, limits):
             high *= 2.0
@@ -315,10 +315,12 @@ class _Polynomial(JointProfile):
         Raises:
             InfeasibleError: A fixed duration that breaks a limit (names joint, needed and
                 allowed values).
+            InvalidInputError: Bad inputs, or q_goal equals q_start and neither the call nor
+                the planner gives a duration.
         """
-        q0, q1, duration = rest_to_rest_inputs(q_start, q_goal, limits, duration)
         if duration is None:
             duration = self.duration
+        q0, q1, duration = rest_to_rest_inputs(q_start, q_goal, limits, duration, self.name)
         zeros = np.zeros(limits.n)
         boundary = {"v0": zeros, "v1": zeros, "a0": zeros, "a1": zeros}
         return self._segment(q0, q1, limits, duration, boundary)
@@ -332,7 +334,9 @@ class _Polynomial(JointProfile):
 
         Raises:
             InfeasibleError: No motion of this kind fits the limits.
-            InvalidInputError: A problem this profile cannot plan.
+            InvalidInputError: A problem this profile cannot plan, or a rest-to-rest
+                PointToPoint whose goal equals its start without a duration (from the
+                problem or the planner).
         """
         started = time.perf_counter()
         if isinstance(problem, PaddleStrike):
@@ -344,6 +348,8 @@ class _Polynomial(JointProfile):
                 f"{type(problem).__name__}",
                 name="problem",
             )
+        if self.duration is None:
+            problem.require_motion(self.name)
         boundary = self._boundary(problem)
         duration = problem.duration if problem.duration is not None else self.duration
         segment = self._segment(

@@ -90,10 +90,19 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError, JointLimitError, SolverError
-from optraj.validation import as_array, as_count
+from optraj.validation import (
+    MIN_DURATION,
+    as_array,
+    as_count,
+    as_flag,
+    as_number,
+    as_positive,
+)
 from planners.base import stamp
 from planners.trajectory import Phase, Trajectory
 from problems import PointToPoint, Waypoints
+from problems.common import MAX_TOOL_SPEED
+from problems.point_to_point import STILL_TOLERANCE, still_error
 from robots import JointLimits, Robot
 
 __all__ = [
@@ -119,6 +128,9 @@ _GRID_STEP = 0.02
 #: ... but no fewer and no more intervals than these.
 _MIN_GRID = 100
 _MAX_GRID = 400
+#: Paths shorter than this many path units are solved in a stretched parameter (see
+#: :func:`_stretch`).
+_STRETCH_BELOW = 1.0
 #: Verified ratios up to this pass; above it a motion is slowed down or solved again.
 _TARGET = 1.0 - 0.5 * MARGIN
 #: Largest squared path velocity offered to toppra where nothing bounds it.
@@ -550,6 +562,12 @@ class GeometricPath:
         """Sum of the segments' joint-space chords [rad or m] (a length estimate)."""
         ends = _polyval_local(self.coefficients, np.diff(self.knots))
         return float(np.sum(np.linalg.norm(ends - self.coefficients[:, 0, :], axis=1)))
+
+    def stretched(self, factor: float) -> GeometricPath:
+        """The same path in the parameter ``factor * s`` (knots times factor, > 0)."""
+        powers = np.arange(self.coefficients.shape[1], dtype=float)
+        coefficients = self.coefficients * (factor**-powers)[None, :, None]
+        return GeometricPath(self.knots * factor, coefficients, self.kind, self.unit)
 
     @classmethod
     def spline(cls, waypoints: FloatArray) -> GeometricPath:
@@ -1087,8 +1105,9 @@ class Toppra:
     Trajectory path by its own time [s] (a path velocity of 1 replays it at its own pace).
 
     Raises:
-        InvalidInputError: A gridpoint count below 2, a tool speed <= 0, negative path
-            velocities.
+        InvalidInputError: A gridpoint count below 2, a tool speed <= 0 or above
+            MAX_TOOL_SPEED, path velocities below 0 or above 1e8, a torque flag that is not a
+            bool.
     """
 
     #: Name recorded in trajectory metadata.
@@ -1103,10 +1122,12 @@ class Toppra:
         end_path_velocity: float = 0.0,
     ) -> None:
         self.gridpoints = None if gridpoints is None else as_count(gridpoints, "gridpoints", 2)
-        if not isinstance(torque, bool):
-            raise InvalidInputError(f"torque must be True or False, got {torque!r}", name="torque")
-        self.torque = torque
-        self.tool_speed = None if tool_speed is None else _positive(tool_speed, "tool_speed")
+        self.torque = as_flag(torque, "torque")
+        self.tool_speed = (
+            None
+            if tool_speed is None
+            else as_positive(tool_speed, "tool_speed", "m/s", maximum=MAX_TOOL_SPEED)
+        )
         self.start_path_velocity = _path_velocity(start_path_velocity, "start_path_velocity")
         self.end_path_velocity = _path_velocity(end_path_velocity, "end_path_velocity")
 
@@ -1258,6 +1279,14 @@ class Toppra:
                 "planners.ViaPoints)",
                 name="segment_durations",
             )
+        if problem.still:  # the rule of Waypoints.require_motion; Toppra cannot hold still
+            raise still_error(
+                self.name,
+                what="every waypoint equals the first",
+                name="waypoints",
+                remedy="there is no path to parametrise; give segment_durations to hold "
+                "still and plan with planners.ViaPoints",
+            )
         limits = _limits_of(problem)
         path, index = _waypoint_path(np.asarray(problem.waypoints, dtype=float), limits)
         s = path.knots[index]
@@ -1279,13 +1308,18 @@ class Toppra:
                     f"{np.round(np.asarray(value), 6).tolist()} is not zero",
                     name=label,
                 )
+        # the rule of every planner, rest to rest; Toppra itself takes no duration
+        problem.require_motion(
+            self.name, "give a duration to hold still, and plan it with a time scaling"
+        )
+        if problem.still:  # with a boundary velocity: no straight line to move along
+            raise still_error(
+                self.name,
+                remedy="there is no straight line to move along; use Ruckig or a time scaling",
+            )
         q0 = np.asarray(problem.q_start, dtype=float)
         q1 = np.asarray(problem.q_goal, dtype=float)
         length = float(np.linalg.norm(q1 - q0))
-        if length <= 1e-12 * max(1.0, float(np.max(np.abs(q0)))):
-            raise InvalidInputError(
-                "q_goal equals q_start: there is no path to parametrise", name="q_goal"
-            )
         direction = (q1 - q0) / length
         speeds = []
         for label, value in (("qd_start", problem.qd_start), ("qd_goal", problem.qd_goal)):
@@ -1357,11 +1391,18 @@ class Toppra:
         if problem.sd_end > 0.0:
             _check_end_velocity(problem, scale)
         moving = problem.sd_start > 0.0 or problem.sd_end > 0.0
+        # toppra solves on a path at least one path unit long (see _STRETCH_BELOW)
+        stretch = _stretch(path)
+        native = path.native if stretch == 1.0 else path.stretched(stretch).native
         for attempt in range(RETRIES + 1):
-            instance = lib.TOPPRA(problem.constraints(scale), path.native, problem.grid)
+            instance = lib.TOPPRA(problem.constraints(scale), native, problem.grid * stretch)
             _, sd, _, K = instance.compute_parameterization(
-                problem.sd_start, problem.sd_end, return_data=True
+                problem.sd_start * stretch, problem.sd_end * stretch, return_data=True
             )
+            if sd is not None:  # back to the path's own units: sd / c, x = sd^2 / c^2
+                sd = np.asarray(sd, dtype=float) / stretch
+            if K is not None:
+                K = np.asarray(K, dtype=float) / stretch**2
             if sd is None or instance.problem_data.return_code != lib.Ok:
                 _raise_failure(problem, instance, sd, K)
             if problem.sd_start**2 > float(K[0, 1]) * (1.0 + 1e-9):
@@ -1395,6 +1436,13 @@ class Toppra:
         if slowdown < 1.0:  # rest to rest: slow the whole motion down just enough
             law = _TimeLaw(problem.grid, law.sd * slowdown)
             ratios = after
+        floor = float(law.t[-1]) / MIN_DURATION
+        if not moving and floor < 1.0:
+            # a tiny move lasts MIN_DURATION, the shortest duration any planner takes (a
+            # slower rest-to-rest motion only lowers every speed and acceleration)
+            law = _TimeLaw(problem.grid, law.sd * floor)
+            ratios = _verify(problem, law)[0]
+            slowdown = min(slowdown, 1.0) * floor
         breakpoints, coefficients = _compose(path.knots, path.coefficients, law, problem.segment)
         phase_s = np.array([[p[1], p[2]] for p in problem.phases], dtype=float).reshape(-1, 2)
         phase_t = law.time_at(phase_s.ravel()).reshape(-1, 2)
@@ -1431,6 +1479,22 @@ class Toppra:
 # ---------------------------------------------------------------------------- helpers
 
 
+def _stretch(path: GeometricPath) -> float:
+    """Factor c >= 1 on the path parameter that makes the path at least one unit long.
+
+    toppra's Seidel solver tests feasibility with absolute tolerances (1e-10, 1e-8; see
+    :func:`_normalised_rows`), and near a rest end the squared path velocity is about
+    2 a ds (a the path acceleration bound, ds the grid step): on a Sawyer line 1e-9 rad long
+    with 100 intervals that is about 1.4e-10, and toppra called the controllable set empty on
+    moves of 1e-11 to 1e-9 rad.
+    In the parameter c s the squared path velocities grow by c^2 and the path acceleration by
+    c, so a short path is solved in units where they are of the size of a unit-length path's.
+    Paths at least one unit long are solved as they are.
+    """
+    span = float(path.knots[-1] - path.knots[0])
+    return 1.0 / span if 0.0 < span < _STRETCH_BELOW else 1.0
+
+
 def _refined(problem: ToppraProblem, intervals: NDArray[np.intp]) -> ToppraProblem:
     """The problem with each of the given grid intervals split into four."""
     grid = problem.grid
@@ -1441,21 +1505,13 @@ def _refined(problem: ToppraProblem, intervals: NDArray[np.intp]) -> ToppraProbl
     )
 
 
-def _positive(value: float, name: str) -> float:
-    number = float(as_array(value, name, ()))
-    if number <= 0.0:
-        raise InvalidInputError(f"{name} must be > 0 m/s, got {number:.6g}", name=name)
-    return number
-
-
 def _path_velocity(value: float, name: str) -> float:
-    number = float(as_array(value, name, ()))
-    if number < 0.0:
-        raise InvalidInputError(
-            f"{name} must be >= 0 (a path velocity; toppra moves forwards only), got {number:.6g}",
-            name=name,
-        )
-    return number
+    """A path velocity [path units/s] in [0, sqrt(_X_CAP)].
+
+    toppra moves forwards only, and no squared path velocity above :data:`_X_CAP` is offered
+    to it.
+    """
+    return as_number(value, name, "path units/s", minimum=0.0, maximum=math.sqrt(_X_CAP))
 
 
 def _limits_of(problem: Waypoints | PointToPoint) -> JointLimits:
@@ -1477,9 +1533,9 @@ def _waypoint_path(
     Raises:
         InvalidInputError: Every waypoint is the same configuration.
     """
-    step = np.sqrt(np.sum(np.diff(points, axis=0) ** 2, axis=1))
-    scale = max(float(np.max(np.abs(points))), 1.0)
-    new = np.concatenate([[True], step > 1e-12 * scale])
+    # a waypoint equal to its predecessor (the rule of problems.PointToPoint.still) is merged
+    step = np.max(np.abs(np.diff(points, axis=0)), axis=1)
+    new = np.concatenate([[True], step > STILL_TOLERANCE])
     if np.count_nonzero(new) < 2:
         raise InvalidInputError(
             "every waypoint is the same configuration: there is no path to parametrise",

@@ -40,6 +40,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError
+from optraj.validation import as_duration
 from planners.base import stamp
 from planners.trajectory import Phase, Trajectory
 from problems import Waypoints
@@ -748,17 +749,7 @@ class ViaPoints:
                     f"blend_time applies to profile 'lspb' only, not {profile!r}",
                     name="blend_time",
                 )
-            try:
-                value = float(blend_time)
-            except (TypeError, ValueError) as exc:
-                raise InvalidInputError(
-                    f"blend_time must be a number > 0 s, got {blend_time!r}", name="blend_time"
-                ) from exc
-            if not (math.isfinite(value) and value > 0.0):
-                raise InvalidInputError(
-                    f"blend_time must be a number > 0 s, got {blend_time!r}", name="blend_time"
-                )
-            self.blend_time = value
+            self.blend_time = as_duration(blend_time, "blend_time")
 
     def __repr__(self) -> str:
         blend = "" if self.blend_time is None else f", blend_time={self.blend_time!r}"
@@ -801,12 +792,7 @@ class ViaPoints:
         points = np.asarray(problem.waypoints, dtype=float)
         given = problem.segment_durations
         durations = None if given is None else np.asarray(given, dtype=float)
-        if durations is None and not np.any(points != points[0]):
-            raise InvalidInputError(
-                "every waypoint is the same configuration, so the move lasts 0 s: give "
-                "segment_durations to hold still",
-                name="waypoints",
-            )
+        problem.require_motion(self.name)  # every waypoint the same, and no durations
         tolerance = problem.via_tolerance
         via_tolerance = None if tolerance is None else float(tolerance)  # type: ignore[arg-type]
         if self.profile == "lspb":

@@ -8,8 +8,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from optraj.errors import InvalidInputError
-from optraj.validation import as_transform, as_vector
-from problems.common import check_robot, positive, positive_fields, resolve_limits
+from optraj.validation import as_duration, as_transform, as_vector
+from problems.common import (
+    MAX_TOOL_SPEED,
+    check_robot,
+    positive,
+    positive_fields,
+    resolve_limits,
+)
 from problems.constraints import BoundaryState, Constraint, ToolPath
 from robots import JointLimits, Robot, solve_ik
 
@@ -68,9 +74,9 @@ class CartesianLine:
         set_(self, "q_start", q_start)
         solve_ik(robot, goal, q_near=q_start)  # raises UnreachableError for an unreachable goal
         if self.duration is not None:
-            set_(self, "duration", positive(self.duration, "duration", "s"))
+            set_(self, "duration", as_duration(self.duration, "duration"))
         if self.speed is not None:
-            set_(self, "speed", positive(self.speed, "speed", "m/s"))
+            set_(self, "speed", positive(self.speed, "speed", "m/s", maximum=MAX_TOOL_SPEED))
 
     @property
     def length(self) -> float:

@@ -6,10 +6,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, JointLimitError
-from optraj.validation import as_array, as_vector
+from optraj.validation import as_number, as_positive, as_vector
 from robots import JointLimits, Robot
 
 __all__ = [
+    "MAX_TOOL_SPEED",
     "check_robot",
     "joint_state",
     "non_negative",
@@ -21,6 +22,12 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
+
+#: Fastest tool speed a problem may command [m/s] (a strike's cue or paddle speed, a
+#: Cartesian line's speed): the speed of sound in dry air at 20 degC, about 343 m/s. No arm
+#: moves a tool that fast (the shipped arms' joint speed limits allow a few m/s at the tool),
+#: and up to it the strike maths stays finite, where a speed of 1e308 m/s overflowed.
+MAX_TOOL_SPEED = 343.0
 
 
 def check_robot(robot: object, wanted: str | None = None) -> Robot:
@@ -37,9 +44,12 @@ def check_robot(robot: object, wanted: str | None = None) -> Robot:
     return robot
 
 
-def positive(value: float, name: str, unit: str) -> float:
-    """``value`` as a finite float > 0, or a typed error naming it."""
-    return _above_zero(value, name, unit, strict=True)
+def positive(value: float, name: str, unit: str, maximum: float | None = None) -> float:
+    """``value`` as a finite float > 0 (and <= ``maximum`` [unit] if given), or a typed error.
+
+    Delegates to :func:`optraj.validation.as_positive`: no bool or string passes as a number.
+    """
+    return as_positive(value, name, unit, maximum=maximum)
 
 
 def positive_fields(problem: object, units: dict[str, str]) -> None:
@@ -51,21 +61,12 @@ def positive_fields(problem: object, units: dict[str, str]) -> None:
         object.__setattr__(problem, name, positive(getattr(problem, name), name, unit))
 
 
-def non_negative(value: float, name: str, unit: str) -> float:
-    """``value`` as a finite float >= 0, or a typed error naming it."""
-    return _above_zero(value, name, unit, strict=False)
+def non_negative(value: float, name: str, unit: str, maximum: float | None = None) -> float:
+    """``value`` as a finite float >= 0 (and <= ``maximum`` [unit] if given), or a typed error.
 
-
-def _above_zero(value: float, name: str, unit: str, *, strict: bool) -> float:
-    """``value`` as a finite float > 0 (``strict``) or >= 0, or a typed error naming it."""
-    number = float(as_array(value, name, ()))
-    if number < 0.0 or (strict and number == 0.0):
-        unit = f" {unit}" if unit else ""
-        bound = ">" if strict else ">="
-        raise InvalidInputError(
-            f"{name} must be {bound} 0{unit}, got {number:.6g}{unit}", name=name
-        )
-    return number
+    Delegates to :func:`optraj.validation.as_number`: no bool or string passes as a number.
+    """
+    return as_number(value, name, unit, minimum=0.0, maximum=maximum)
 
 
 def unit_vector(value: ArrayLike, name: str) -> FloatArray:

@@ -7,12 +7,12 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from optraj.validation import as_array, as_vector
+from optraj.validation import as_duration, as_number, as_vector
 from problems.common import (
+    MAX_TOOL_SPEED,
     check_robot,
     joint_state,
     non_negative,
-    positive,
     positive_fields,
     resolve_limits,
 )
@@ -69,9 +69,9 @@ class PaddleStrike:
         set_ = object.__setattr__
         set_(self, "limits", limits)
         set_(self, "ball", as_vector(self.ball, "ball", 3))
-        set_(self, "contact_angle", float(as_array(self.contact_angle, "contact_angle", ())))
-        set_(self, "speed", non_negative(self.speed, "speed", "m/s"))
-        set_(self, "contact_time", positive(self.contact_time, "contact_time", "s"))
+        set_(self, "contact_angle", as_number(self.contact_angle, "contact_angle", "rad"))
+        set_(self, "speed", non_negative(self.speed, "speed", "m/s", maximum=MAX_TOOL_SPEED))
+        set_(self, "contact_time", as_duration(self.contact_time, "contact_time"))
         positive_fields(
             self, {"position_tolerance": "m", "angle_tolerance": "rad", "velocity_tolerance": "m/s"}
         )

@@ -8,7 +8,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from optraj.errors import InvalidInputError, UnreachableError
-from optraj.validation import as_array, as_vector
+from optraj.validation import as_array, as_duration, as_vector
 from problems.common import check_robot, joint_state, positive, resolve_limits, unit_vector
 from problems.constraints import BoundaryState, Constraint, ToolContact
 from robots import JointLimits, Robot, solve_ik
@@ -82,7 +82,7 @@ class PickAndPlace:
         set_(self, "block_height", positive(self.block_height, "block_height", "m"))
         set_(self, "clearance", positive(self.clearance, "clearance", "m"))
         set_(self, "approach", unit_vector(self.approach, "approach"))
-        set_(self, "grasp_time", positive(self.grasp_time, "grasp_time", "s"))
+        set_(self, "grasp_time", as_duration(self.grasp_time, "grasp_time"))
         q_start, _, _ = joint_state(
             limits, robot.home if self.q_start is None else self.q_start, None, None, "start"
         )

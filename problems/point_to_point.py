@@ -4,13 +4,59 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
 from numpy.typing import ArrayLike
 
-from problems.common import check_robot, joint_state, non_negative, positive, resolve_limits
+from optraj.errors import InvalidInputError
+from optraj.validation import as_duration, as_vector
+from problems.common import check_robot, joint_state, non_negative, resolve_limits
 from problems.constraints import BoundaryState, Constraint
 from robots import JointLimits, Robot
 
-__all__ = ["PointToPoint"]
+__all__ = ["STILL_TOLERANCE", "PointToPoint", "is_still", "still_error"]
+
+#: Largest displacement of any joint [rad or m] that counts as no move at all: a goal
+#: within it of the start "equals the start". It sits far above the round-off of joint
+#: positions (the spacing of doubles near the largest shipped limit, 2 pi, is 8.9e-16, and a
+#: configuration that went through arithmetic carries a few such ulps) and far below any
+#: joint's resolution (a 20-bit encoder resolves 2 pi / 2^20 = 6e-6 rad). It is not set by
+#: a planner: Cubic, Quintic, LSPB and Toppra plan one-joint moves of 2e-12 rad and more that
+#: pass the checker on all five robots (tests/test_point_to_point.py checks 2e-12 to 1e-9),
+#: and Toppra, the one that used to fail on tiny moves, plans them down to 1e-15 rad.
+STILL_TOLERANCE = 1e-12
+
+
+def is_still(q_start: ArrayLike, q_goal: ArrayLike) -> bool:
+    """Whether no joint moves more than :data:`STILL_TOLERANCE` from q_start to q_goal.
+
+    Args:
+        q_start: Start positions [rad or m], shape (n,).
+        q_goal: Goal positions [rad or m], shape (n,).
+    """
+    change = np.abs(np.asarray(q_goal, dtype=float) - np.asarray(q_start, dtype=float))
+    return float(np.max(change, initial=0.0)) <= STILL_TOLERANCE
+
+
+def still_error(
+    planner: str,
+    *,
+    what: str = "q_goal equals q_start",
+    name: str = "q_goal",
+    remedy: str = "give a duration to hold still",
+) -> InvalidInputError:
+    """The error for a rest-to-rest move without a duration that stays still.
+
+    Args:
+        planner: Name of the refusing planner, for the message.
+        what: What stays still, for the message.
+        name: The argument named by the error.
+        remedy: What to do instead.
+    """
+    return InvalidInputError(
+        f"{planner}: {what} (no joint moves more than {STILL_TOLERANCE:g} rad or m), so the "
+        f"fastest move lasts 0 s: {remedy}",
+        name=name,
+    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -30,6 +76,10 @@ class PointToPoint:
         duration: Fixed duration [s], or None for as fast as the limits allow.
         limits: Limits to plan for; the robot's when None.
         tolerance: Allowed boundary-state deviation for the checker.
+
+    A goal that equals the start (within :data:`STILL_TOLERANCE`) is a valid problem; a
+    planner refuses it at planning time (:meth:`require_motion`) when it starts and ends at
+    rest and has no duration, and plans a hold when it has one.
     """
 
     robot: Robot
@@ -47,8 +97,11 @@ class PointToPoint:
         limits = resolve_limits(check_robot(self.robot), self.limits)
         set_ = object.__setattr__
         set_(self, "limits", limits)
-        q0, v0, a0 = joint_state(limits, self.q_start, self.qd_start, self.qdd_start, "start")
-        q1, v1, a1 = joint_state(limits, self.q_goal, self.qd_goal, self.qdd_goal, "goal")
+        # positions are required here (joint_state takes None for "not given")
+        q_start = as_vector(self.q_start, "q_start", limits.n)
+        q_goal = as_vector(self.q_goal, "q_goal", limits.n)
+        q0, v0, a0 = joint_state(limits, q_start, self.qd_start, self.qdd_start, "start")
+        q1, v1, a1 = joint_state(limits, q_goal, self.qd_goal, self.qdd_goal, "goal")
         for name, value in (
             ("q_start", q0),
             ("qd_start", v0),
@@ -59,8 +112,39 @@ class PointToPoint:
         ):
             set_(self, name, value)
         if self.duration is not None:
-            set_(self, "duration", positive(self.duration, "duration", "s"))
+            set_(self, "duration", as_duration(self.duration, "duration"))
         set_(self, "tolerance", non_negative(self.tolerance, "tolerance", ""))
+
+    @property
+    def at_rest(self) -> bool:
+        """Whether the move starts and ends at rest (zero velocities, no or zero accelerations)."""
+        return not any(
+            value is not None and np.any(np.asarray(value) != 0.0)
+            for value in (self.qd_start, self.qd_goal, self.qdd_start, self.qdd_goal)
+        )
+
+    @property
+    def still(self) -> bool:
+        """Whether the goal equals the start: no joint moves more than STILL_TOLERANCE."""
+        return is_still(self.q_start, self.q_goal)
+
+    def require_motion(self, planner: str, remedy: str = "give a duration to hold still") -> None:
+        """Refuse, for ``planner``, a rest-to-rest move that stays still and has no duration.
+
+        The one rule every planner follows: the fastest such move lasts 0 s, which is no
+        trajectory. With a duration, a planner that takes one plans a hold instead.
+
+        Args:
+            planner: Name of the planner, for the message.
+            remedy: What to do instead, for the message (it should say to give a duration
+                to hold still).
+
+        Raises:
+            InvalidInputError: Naming ``q_goal``; the message says "q_goal equals q_start"
+                and to give a duration to hold still.
+        """
+        if self.duration is None and self.at_rest and self.still:
+            raise still_error(planner, remedy=remedy)
 
     def constraints(self) -> tuple[Constraint, ...]:
         """Start and goal states."""

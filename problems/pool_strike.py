@@ -10,6 +10,7 @@ from numpy.typing import ArrayLike
 from optraj.errors import InvalidInputError
 from optraj.validation import as_vector
 from problems.common import (
+    MAX_TOOL_SPEED,
     check_robot,
     joint_state,
     non_negative,
@@ -89,7 +90,7 @@ class PoolStrike:
         set_(self, "limits", limits)
         ball = as_vector(self.ball, "ball", 3)
         direction = unit_vector(self.direction, "direction")
-        speed = positive(self.speed, "speed", "m/s")
+        speed = positive(self.speed, "speed", "m/s", maximum=MAX_TOOL_SPEED)
         run_up = non_negative(self.run_up, "run_up", "m")
         follow = non_negative(self.follow_through, "follow_through", "m")
         if run_up + follow <= 0.0:

@@ -8,9 +8,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from optraj.errors import InvalidInputError
-from optraj.validation import as_array, as_vector
+from optraj.validation import as_array, as_duration, as_vector
 from problems.common import check_robot, joint_state, non_negative, resolve_limits
 from problems.constraints import BoundaryState, Constraint, ViaPoint
+from problems.point_to_point import STILL_TOLERANCE, still_error
 from robots import JointLimits, Robot
 
 __all__ = ["Waypoints"]
@@ -54,15 +55,36 @@ class Waypoints:
         set_(self, "waypoints", points)
         if self.segment_durations is not None:
             durations = as_vector(self.segment_durations, "segment_durations", points.shape[0] - 1)
-            if np.any(durations <= 0.0):
-                raise InvalidInputError(
-                    f"segment_durations must be > 0 s, got {durations}", name="segment_durations"
-                )
+            for k, duration in enumerate(durations):
+                as_duration(duration, f"segment_durations[{k}]")
             set_(self, "segment_durations", durations)
         if self.via_tolerance is not None:
             set_(self, "via_tolerance", non_negative(self.via_tolerance, "via_tolerance", "rad"))
         set_(self, "tolerance", non_negative(self.tolerance, "tolerance", ""))
         joint_state(limits, points[0], None, None, "start")
+
+    @property
+    def still(self) -> bool:
+        """Whether every waypoint equals the first: no joint moves more than STILL_TOLERANCE."""
+        points = np.asarray(self.waypoints)
+        return float(np.max(np.abs(points - points[0]))) <= STILL_TOLERANCE
+
+    def require_motion(self, planner: str) -> None:
+        """Refuse, for ``planner``, waypoints that all equal the first and no segment_durations.
+
+        The rule of :meth:`problems.PointToPoint.require_motion` for a sequence of moves.
+
+        Raises:
+            InvalidInputError: Naming ``waypoints``, saying to give segment_durations to
+                hold still.
+        """
+        if self.segment_durations is None and self.still:
+            raise still_error(
+                planner,
+                what="every waypoint equals the first",
+                name="waypoints",
+                remedy="give segment_durations to hold still",
+            )
 
     def constraints(self) -> tuple[Constraint, ...]:
         """Rest at the first and last waypoints; the inner ones when via_tolerance is set."""

@@ -28,5 +28,5 @@ def test_move_validates_its_inputs():
     limits = get_robot("paddle4").limits
     with pytest.raises(InvalidInputError, match=r"q_goal must have shape \(4,\)"):
         Cubic().move(np.zeros(4), np.zeros(3), limits)
-    with pytest.raises(InvalidInputError, match="duration must be > 0"):
+    with pytest.raises(InvalidInputError, match=r"duration must be >= 1e-06 s, got -1 s"):
         Cubic().move(np.zeros(4), np.zeros(4), limits, duration=-1.0)

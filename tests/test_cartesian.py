@@ -187,3 +187,20 @@ def test_linear_trajectory_from_rest_needs_unbounded_acceleration():
     sample = traj.sample(np.linspace(0.0, traj.duration, 50))
     tool_velocity = np.einsum("mij,mj->mi", robot.jacobian(sample.q)[:, :3], sample.qd)
     np.testing.assert_allclose(tool_velocity, np.tile([0.5, 0.0, 0.0], (50, 1)), atol=1e-6)
+
+
+def test_settings_are_checked_when_built():
+    # issue 32, defect 6: an unknown on_jump passed until a jump; extremes crashed the maths
+    with pytest.raises(UnknownNameError, match="on_jump policy"):
+        CartesianStraightLine(on_jump="ignore")
+    with pytest.raises(InvalidInputError, match="samples must be an integer <= 100000"):
+        CartesianStraightLine(samples=10**7)
+    with pytest.raises(InvalidInputError, match="jump_threshold must be a numeric"):
+        CartesianStraightLine(jump_threshold="0.1")
+    with pytest.raises(InvalidInputError, match="speed must be <= 343 m/s"):
+        LinearTrajectory(np.zeros(3), np.ones(3), 1e308, np.eye(3))
+    with pytest.raises(InvalidInputError, match=r"\|end - start\| / speed must be <= 86400 s"):
+        LinearTrajectory(np.zeros(3), np.ones(3), 1e-200, np.eye(3))
+    line = LinearTrajectory(np.zeros(3), np.ones(3), 1.0, np.eye(3))
+    with pytest.raises(InvalidInputError, match="samples must be an integer >= 1"):
+        line.to_joints(get_robot("sawyer"), get_robot("sawyer").home, samples=-1)

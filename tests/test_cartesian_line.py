@@ -35,3 +35,10 @@ def test_unreachable_goal_and_inconsistent_start_are_errors():
         CartesianLine(robot, np.diag([1.0, 1.0, -1.0, 1.0]), start)
     with pytest.raises(InvalidInputError, match="speed must be > 0"):
         CartesianLine(robot, start, start, q_start=robot.home, speed=0.0)
+    # issue 32, defect 6: extreme values are refused with their bound and unit
+    with pytest.raises(InvalidInputError, match="speed must be <= 343 m/s"):
+        CartesianLine(robot, start, start, q_start=robot.home, speed=1e308)
+    with pytest.raises(InvalidInputError, match="duration must be >= 1e-06 s"):
+        CartesianLine(robot, start, start, q_start=robot.home, duration=1e-200)
+    with pytest.raises(InvalidInputError, match="duration must be <= 86400 s"):
+        CartesianLine(robot, start, start, q_start=robot.home, duration=1e200)

@@ -191,3 +191,9 @@ def test_bad_inputs_raise_typed_errors():
     with pytest.raises(InvalidInputError, match="PoolStrike"):
         ClassicStrike().plan(problems.seed_paddle_strike())  # type: ignore[arg-type]
     assert ClassicStrike("quintic").name == "quintic strike"
+
+
+def test_sample_count_has_an_upper_bound():
+    # issue 32, defect 7/6: one IK solve per sample; a count of 10**7 ran for hours
+    with pytest.raises(InvalidInputError, match="samples must be an integer <= 100000"):
+        ClassicStrike(samples=10**7)

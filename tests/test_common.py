@@ -8,6 +8,7 @@ from conftest import get_robot
 
 from optraj.errors import InvalidInputError, JointLimitError
 from problems.common import (
+    MAX_TOOL_SPEED,
     check_robot,
     joint_state,
     non_negative,
@@ -23,6 +24,22 @@ def test_unit_vector_and_numbers():
     assert positive(2, "x", "m") == 2.0 and non_negative(0, "x", "m") == 0.0
     with pytest.raises(InvalidInputError, match="x must be > 0 m, got 0 m"):
         positive(0, "x", "m")
+
+
+@pytest.mark.parametrize("value", ["2", True, None])
+def test_numbers_are_numbers(value):
+    # issue 32, defect 6: the problems' checks are optraj.validation's (no bool or string)
+    for check in (positive, non_negative):
+        with pytest.raises(InvalidInputError, match="x must be a numeric"):
+            check(value, "x", "m")
+
+
+def test_an_upper_bound_names_its_unit():
+    assert positive(343.0, "speed", "m/s", maximum=MAX_TOOL_SPEED) == 343.0
+    with pytest.raises(InvalidInputError, match=r"speed must be <= 343 m/s, got 1e\+308 m/s"):
+        positive(1e308, "speed", "m/s", maximum=MAX_TOOL_SPEED)
+    with pytest.raises(InvalidInputError, match="d must be <= 1 m, got 2 m"):
+        non_negative(2.0, "d", "m", maximum=1.0)
 
 
 def test_joint_state_checks_speed_against_the_limit():

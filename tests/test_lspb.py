@@ -20,6 +20,7 @@ from planners.lspb import (
     lspb_shortest_blend,
     lspb_trajectory,
 )
+from problems.point_to_point import is_still
 
 QUANTITIES = ("position", "velocity", "acceleration")
 
@@ -191,9 +192,10 @@ def test_round_off_displacements_keep_breakpoints_apart_so_moves_chain():
         target = limits.sample(rng, 1)[0]
         target[2] = 1e-26 if k % 2 else -1e-26  # a round-off move
         pieces.append(LSPB().move(current, target, limits))
-        # Every joint moves 1e-15: the shortest cruise-time move lasts just over 0.5 s.
-        pieces.append(LSPB(cruise_time=0.5).move(target, target + 1e-15, limits))
-        current = target + 1e-15
+        # Every joint moves 2e-12 (just above STILL_TOLERANCE, the smallest move planned
+        # without a duration): the shortest cruise-time move lasts just over 0.5 s.
+        pieces.append(LSPB(cruise_time=0.5).move(target, target + 2e-12, limits))
+        current = target + 2e-12
     joined = pieces[0].then(*pieces[1:])
     assert np.all(np.diff(joined.breakpoints) > 1e-12 * pieces[0].duration)
     for piece in pieces:
@@ -214,7 +216,7 @@ def _random_move(rng, robot):
     tiny = rng.choice([1e-15, 1e-12, 1e-9, 1e-6], n) * rng.choice([-1.0, 1.0], n)
     inside = (start + tiny >= limits.lower) & (start + tiny <= limits.upper)
     goal = np.where(kind == 0, start, np.where((kind == 1) & inside, start + tiny, goal))
-    if not np.any(goal != start):
+    if is_still(start, goal):  # the fastest move would last 0 s: refused
         goal[0] = limits.sample(rng, 1)[0, 0]
     return limits, start, goal
 
@@ -224,7 +226,8 @@ def _plan_case(case, rng, start, goal, limits):
         return LSPB().move(start, goal, limits)
     if case == "duration":
         shortest = np.max(lspb_min_time(goal - start, limits.velocity, limits.acceleration)[0])
-        return LSPB().move(start, goal, limits, shortest * rng.uniform(1.0, 3.0))
+        # a duration is at least MIN_DURATION (1 us); a longer one than the shortest is fine
+        return LSPB().move(start, goal, limits, max(shortest * rng.uniform(1.0, 3.0), 1e-6))
     if case == "blend_time":
         return LSPB(blend_time=rng.uniform(0.05, 0.6)).move(start, goal, limits)
     return LSPB(cruise_time=rng.choice([0.0, rng.uniform(0.0, 2.0)])).move(start, goal, limits)
@@ -252,7 +255,8 @@ def test_random_moves_respect_limits_and_are_c1(case):
         # Limits: on a grid (20 kHz for every 20th move, 500 points otherwise) plus both
         # sides of every breakpoint, which for piecewise quadratics hold every extremum.
         dense = trial % 20 == 0 and traj.duration < 10.0
-        rate = 20_000.0 if dense else 500.0 / traj.duration
+        # at most 1 MHz, the highest rate Trajectory.times takes (tiny moves last < 1 us)
+        rate = 20_000.0 if dense else min(500.0 / traj.duration, 1e6)
         sample = traj.sample(traj.times(rate))
         for values in (sample.qd, qd_l):
             assert np.all(np.abs(values) <= vmax * (1 + 1e-9))
@@ -260,8 +264,8 @@ def test_random_moves_respect_limits_and_are_c1(case):
             assert np.all(np.abs(values) <= amax * (1 + 1e-9))
         assert np.all(limits.contains(sample.q, tolerance=1e-12))
         if case == "min_time":
-            own = lspb_min_time(goal - start, vmax, amax)
-            assert traj.duration == pytest.approx(np.max(own.duration), rel=1e-12)
+            own = lspb_min_time(goal - start, vmax, amax)  # a move lasts at least 1 us
+            assert traj.duration == pytest.approx(max(np.max(own.duration), 1e-6), rel=1e-12)
         # The independent checker on every move (it refines peaks exactly between samples).
         problem = problems.PointToPoint(robot, start, goal, limits=limits, tolerance=1e-12)
         report = planners.check(traj, problem, rate=200.0, quantities=QUANTITIES)
@@ -316,9 +320,9 @@ def test_fixed_settings_beyond_limits_raise_unless_told_not_to_check():
     ("kwargs", "match"),
     [
         ({"blend_time": 0.5, "cruise_time": 1.0}, "not both"),
-        ({"blend_time": 0.0}, "blend_time must be a number > 0"),
+        ({"blend_time": 0.0}, "blend_time must be >= 1e-06 s, got 0 s"),
         ({"blend_time": math.nan}, "blend_time must be finite"),
-        ({"cruise_time": -1.0}, "cruise_time must be a number >= 0"),
+        ({"cruise_time": -1.0}, "cruise_time must be >= 0 s, got -1 s"),
         ({"check_limits": False}, "applies only with a fixed"),
     ],
 )
@@ -354,7 +358,7 @@ def test_bad_inputs_are_typed_errors():
         LSPB().move([0.2, 0, 0, 0], [0.3, np.nan, 0, 0], limits)
     with pytest.raises(InvalidInputError, match=r"q_start must have shape \(4,\)"):
         LSPB().move([0.2, 0, 0], [0.3, 0, 0, 0], limits)
-    with pytest.raises(InvalidInputError, match="duration must be > 0"):
+    with pytest.raises(InvalidInputError, match="duration must be >= 1e-06 s, got -1 s"):
         LSPB().move([0.2, 0, 0, 0], [0.3, 0, 0, 0], limits, -1.0)
     with pytest.raises(InvalidInputError, match="v_max must be > 0"):
         lspb_min_time([1.0], [0.0], [1.0])
@@ -364,3 +368,22 @@ def test_bad_inputs_are_typed_errors():
         lspb_shortest_blend([1.0], [1.0], 1.0)
     with pytest.raises(InvalidInputError, match=r"plans a problems\.PointToPoint"):
         LSPB().plan("not a problem")  # type: ignore[arg-type]
+
+
+# issue 32, defect 6: numbers are numbers (np.array(..., dtype=float) took "1" and True)
+def test_text_and_bools_are_not_numbers():
+    limits = get_robot("paddle4").limits
+    with pytest.raises(InvalidInputError, match="delta must be a numeric"):
+        lspb_min_time("1", 1.0, 1.0)
+    with pytest.raises(InvalidInputError, match="v_max must be a numeric"):
+        lspb_min_time(1.0, True, 1.0)
+    with pytest.raises(InvalidInputError, match="duration must be a numeric"):
+        LSPB().move([0.1, 0, 0, 0], [0.2, 0, 0, 0], limits, "2")
+    with pytest.raises(InvalidInputError, match="blend_time must be a numeric"):
+        LSPB(blend_time="0.1")
+    with pytest.raises(InvalidInputError, match="duration must be <= 86400 s"):
+        LSPB().move([0.1, 0, 0, 0], [0.2, 0, 0, 0], limits, 1e200)
+    with pytest.raises(InvalidInputError, match="cruise_time must be <= 86400 s"):
+        LSPB(cruise_time=1e200)
+    with pytest.raises(InvalidInputError, match="check_limits must be True or False"):
+        LSPB(blend_time=0.1, check_limits=0)

@@ -33,7 +33,10 @@ def test_strike_at_speed_has_a_velocity_along_the_normal():
     [
         ({"ball": (1.3, 0.0, 0.3)}, WorkspaceError, "x <= 1.1"),
         ({"speed": -1.0}, InvalidInputError, "speed must be >= 0"),
-        ({"contact_time": 0.0}, InvalidInputError, "contact_time must be > 0 s"),
+        ({"contact_time": 0.0}, InvalidInputError, "contact_time must be >= 1e-06 s, got 0 s"),
+        ({"contact_time": 1e200}, InvalidInputError, "contact_time must be <= 86400 s"),
+        ({"speed": 1e308}, InvalidInputError, "speed must be <= 343 m/s"),
+        ({"contact_angle": "0.1"}, InvalidInputError, "contact_angle must be a numeric"),
         ({"velocity_tolerance": None}, InvalidInputError, "velocity_tolerance must be a numeric"),
         ({"angle_tolerance": -1e-6}, InvalidInputError, "angle_tolerance must be > 0 rad"),
         ({"robot": "sawyer"}, InvalidInputError, "robots.Robot"),

@@ -46,6 +46,9 @@ def test_unreachable_block_names_it():
     [
         ({"picks": np.zeros((0, 3))}, "at least one block"),
         ({"block_height": 0.0}, "block_height must be > 0 m"),
+        ({"block_height": "0.05"}, "block_height must be a numeric"),
+        ({"grasp_time": 1e200}, "grasp_time must be <= 86400 s, got 1e[+]200 s"),
+        ({"grasp_time": 1e-200}, "grasp_time must be >= 1e-06 s"),
         ({"approach": (0, 0, 0)}, "non-zero direction"),
         ({"pile": (0.1, 0.1)}, r"shape \(3,\)"),
     ],

@@ -201,3 +201,13 @@ def test_ball_paths_refuse_a_paddle_outcome():
     assert paddle.hit and paddle.kind == "paddle"
     with pytest.raises(InvalidInputError, match="'paddle' outcome"):
         physics.plot_ball_paths({"paddle": [paddle]})
+
+
+def test_counts_and_names_are_checked():
+    # issue 32, defects 6 and 7: a string was iterated letter by letter; counts are bounded
+    robot = get_robot("paddle4")
+    traj = planners.Cubic().plan(problems.PointToPoint(robot, robot.home, [0.5, 0.1, 0.2, 0.0]))
+    with pytest.raises(InvalidInputError, match="quantities must be a sequence of names"):
+        planners.plot.plot_profiles(traj, robot.limits, quantities="velocity")
+    with pytest.raises(InvalidInputError, match="count must be an integer <= 1000"):
+        planners.plot.plot_robot(robot, traj, count=10**6)

@@ -6,8 +6,10 @@ import numpy as np
 import pytest
 from conftest import get_robot
 
+import planners
 from optraj.errors import InvalidInputError, JointLimitError
 from problems import BoundaryState, PointToPoint
+from problems.point_to_point import STILL_TOLERANCE, is_still
 
 
 def test_defaults_are_rest_and_constraints_are_the_two_states():
@@ -32,7 +34,14 @@ def test_defaults_are_rest_and_constraints_are_the_two_states():
         ({"qdd_goal": [9.0, 0, 0, 0]}, JointLimitError, r"'J1' acceleration 9 m/s\^2"),
         ({"q_goal": [0.5, np.nan, 0, 0]}, InvalidInputError, "finite"),
         ({"q_goal": [0.5, 0.0]}, InvalidInputError, r"shape \(4,\)"),
-        ({"duration": 0.0}, InvalidInputError, "duration must be > 0 s"),
+        ({"duration": 0.0}, InvalidInputError, "duration must be >= 1e-06 s, got 0 s"),
+        # issue 32, defect 6: no text, no extreme durations, no missing positions
+        ({"duration": "2"}, InvalidInputError, "duration must be a numeric"),
+        ({"duration": 1e200}, InvalidInputError, "duration must be <= 86400 s, got 1e[+]200 s"),
+        ({"duration": 1e-200}, InvalidInputError, "duration must be >= 1e-06 s"),
+        ({"q_start": None}, InvalidInputError, r"q_start must be a numeric array of shape \(4,\)"),
+        ({"q_goal": None}, InvalidInputError, r"q_goal must be a numeric array of shape \(4,\)"),
+        ({"q_goal": ["0.5", 0, 0, 0]}, InvalidInputError, "q_goal must be a numeric"),
         ({"tolerance": -1.0}, InvalidInputError, "tolerance must be >= 0, got -1"),
         ({"tolerance": True}, InvalidInputError, "tolerance must be a numeric"),
         ({"robot": "paddle4"}, InvalidInputError, "robots.Robot"),
@@ -51,3 +60,92 @@ def test_limits_must_match_the_robot():
         PointToPoint(
             get_robot("paddle4"), np.zeros(4), np.zeros(4), limits=get_robot("youbot").limits
         )
+
+
+# ------------------------------------------------- a move whose goal equals its start
+
+#: The planners of a rest-to-rest PointToPoint, and the limits each keeps (for the checker).
+_PLANNERS = {
+    "cubic": (planners.Cubic, ("position", "velocity", "acceleration")),
+    "quintic": (planners.Quintic, None),
+    "lspb": (planners.LSPB, ("position", "velocity", "acceleration")),
+    "toppra": (planners.Toppra, ("position", "velocity", "acceleration")),
+}
+_HOLDS = ("cubic", "quintic", "lspb")  # the planners that take a duration
+
+
+@pytest.mark.parametrize("name", list(_PLANNERS))
+@pytest.mark.parametrize("offset", [0.0, 1e-13, 0.9 * STILL_TOLERANCE])
+def test_every_planner_refuses_a_still_move_without_a_duration(name, offset):
+    # One rule (issue 32, defect 8): Cubic and Quintic returned an 8.7e-22 s trajectory,
+    # LSPB refused only an exactly equal goal, Toppra refused with its own message.
+    robot = get_robot("sawyer")
+    problem = PointToPoint(robot, robot.home, robot.home + offset)  # valid when built
+    assert problem.still
+    with pytest.raises(InvalidInputError, match="q_goal equals q_start") as info:
+        _PLANNERS[name][0]().plan(problem)
+    assert info.value.name == "q_goal"
+    assert "give a duration to hold still" in str(info.value)
+
+
+@pytest.mark.parametrize("name", _HOLDS)
+def test_a_joint_profile_move_follows_the_same_rule(name):
+    limits = get_robot("paddle4").limits
+    q = np.array([0.5, 0.1, 0.2, 0.0])
+    with pytest.raises(InvalidInputError, match="q_goal equals q_start") as info:
+        _PLANNERS[name][0]().move(q, q, limits)
+    assert info.value.name == "q_goal"
+    held = _PLANNERS[name][0]().move(q, q, limits, 0.75)
+    assert held.duration == 0.75
+
+
+@pytest.mark.parametrize("name", _HOLDS)
+def test_a_still_move_with_a_duration_is_a_hold(name):
+    robot = get_robot("sawyer")
+    problem = PointToPoint(robot, robot.home, robot.home + 1e-13, duration=0.5)
+    traj = _PLANNERS[name][0]().plan(problem)
+    assert traj.duration == pytest.approx(0.5, rel=1e-12)
+    sample = traj.sample(traj.times(200.0))
+    np.testing.assert_allclose(sample.q, np.broadcast_to(robot.home, sample.q.shape), atol=1e-12)
+    assert planners.check(traj, problem, quantities=_PLANNERS[name][1]).ok
+
+
+def test_a_planner_with_its_own_duration_holds_too():
+    robot = get_robot("sawyer")
+    problem = PointToPoint(robot, robot.home, robot.home)
+    assert planners.Cubic(duration=0.3).plan(problem).duration == pytest.approx(0.3)
+
+
+def test_a_still_move_with_boundary_velocities_is_no_hold():
+    # Out and back (qd_start = -qd_goal) is a motion: the rule covers rest-to-rest moves only.
+    robot = get_robot("paddle4")
+    qd = np.array([0.2, 0.0, 0.0, 0.0])
+    problem = PointToPoint(robot, [0.5, 0.1, 0.2, 0.0], [0.5, 0.1, 0.2, 0.0], qd, -qd)
+    problem.require_motion("test")  # no error
+    assert planners.Cubic().plan(problem).duration > 0.0
+
+
+@pytest.mark.parametrize("robot_name", ["paddle4", "sawyer", "youbot"])
+@pytest.mark.parametrize("name", list(_PLANNERS))
+def test_moves_just_above_the_tolerance_plan_and_pass_the_checker(robot_name, name):
+    # Toppra called moves of 1e-11 to 1e-9 rad infeasible (an empty controllable set).
+    robot = get_robot(robot_name)
+    rng = np.random.default_rng(7)
+    planner, quantities = _PLANNERS[name]
+    for q0 in [robot.home, *robot.random_configurations(2, rng)]:
+        for size in (2 * STILL_TOLERANCE, 1e-11, 1e-10, 1e-9):
+            j = int(rng.integers(robot.dof))
+            step = size if q0[j] + size <= robot.limits.upper[j] else -size
+            q1 = q0.copy()
+            q1[j] += step
+            problem = PointToPoint(robot, q0, q1)
+            assert not problem.still
+            traj = planner().plan(problem)
+            report = planners.check(traj, problem, quantities=quantities)
+            assert report.ok, report
+            assert traj.duration >= 1e-6  # no move is shorter than the shortest duration
+
+
+def test_the_tolerance_is_one_constant():
+    assert is_still([0.0, 1.0], [STILL_TOLERANCE, 1.0 - STILL_TOLERANCE])
+    assert not is_still([0.0, 1.0], [2 * STILL_TOLERANCE, 1.0])

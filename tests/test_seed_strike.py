@@ -29,3 +29,21 @@ def test_seed_strike_rejects_other_problems():
         SeedStrike().plan(problems.seed_paddle_strike())
     with pytest.raises(InvalidInputError, match="hold_time"):
         SeedStrike(hold_time=0.0)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"samples": -1}, "samples must be an integer >= 1"),
+        ({"samples": 2.5}, "samples must be an integer"),
+        ({"samples": True}, "samples must be an integer"),
+        ({"samples": 10**9}, "samples must be an integer <= 100000"),
+        ({"hold_time": "0.2"}, "hold_time must be a numeric"),
+        ({"hold_time": 1e200}, "hold_time must be <= 86400 s"),
+        ({"pull_back_time": 1e-200}, "duration must be >= 1e-06 s"),
+    ],
+)
+def test_bad_settings_are_typed_errors(kwargs, match):
+    # issue 32, defect 6: samples=-1 was an IndexError at planning time
+    with pytest.raises(InvalidInputError, match=match):
+        SeedStrike(**kwargs)

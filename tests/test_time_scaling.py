@@ -148,7 +148,7 @@ def test_cubic_cannot_meet_accelerations_and_rejects_other_problems():
         Cubic().plan(problem)
     with pytest.raises(InvalidInputError, match="PointToPoint or a PaddleStrike"):
         Cubic().plan(problems.youbot_two_blocks())
-    with pytest.raises(InvalidInputError, match="duration must be > 0"):
+    with pytest.raises(InvalidInputError, match="duration must be >= 1e-06 s, got -1 s"):
         Quintic(duration=-1.0)
 
 
@@ -167,3 +167,22 @@ def test_seed_paddle_strike_passes_the_checker():
         Cubic().plan(problem), problem, quantities=("position", "velocity", "acceleration")
     )
     assert report.ok, report.summary()
+
+
+# issue 32, defect 6: a duration is a number of seconds in [1e-6, 86400] everywhere
+@pytest.mark.parametrize("profile", [Cubic, Quintic])
+@pytest.mark.parametrize(
+    ("duration", "match"),
+    [
+        ("2", "duration must be a numeric"),
+        (True, "duration must be a numeric"),
+        (1e200, "duration must be <= 86400 s, got 1e[+]200 s"),
+        (1e-200, "duration must be >= 1e-06 s, got 1e-200 s"),
+    ],
+)
+def test_durations_are_numbers_in_range_in_the_planner_and_in_move(profile, duration, match):
+    limits = get_robot("paddle4").limits
+    with pytest.raises(InvalidInputError, match=match):
+        profile(duration=duration)
+    with pytest.raises(InvalidInputError, match=match):
+        profile().move([0.1, 0, 0, 0], [0.2, 0, 0, 0], limits, duration)

@@ -389,7 +389,7 @@ def test_other_bad_inputs_are_typed_errors():
     q0 = robot.home.copy()
     with pytest.raises(InvalidInputError, match="does not point forwards"):
         Toppra().plan(problems.PointToPoint(robot, q0, q0 + 0.2, qd_start=np.array([1, 0, 0, 0])))
-    with pytest.raises(InvalidInputError, match="no path"):
+    with pytest.raises(InvalidInputError, match="q_goal equals q_start"):
         Toppra().plan(problems.PointToPoint(robot, q0, q0))
     with pytest.raises(InvalidInputError, match="no path"):
         Toppra().time_parametrize(np.array([q0, q0, q0]), robot.limits)
@@ -514,3 +514,38 @@ def test_results_pickle_with_toppras_object():
     )
     assert done.returncode == 0, done.stderr.decode()
     assert float(done.stdout) == pytest.approx(traj.duration)
+
+
+@pytest.mark.parametrize("size", [1e-11, 1e-10, 1e-9, 3e-9])
+def test_tiny_moves_are_feasible(size):
+    # issue 32, defect 8: toppra's absolute tolerances called the controllable set of these
+    # moves empty; the path is now solved in a parameter at least one unit long.
+    robot = get_robot("sawyer")
+    q1 = robot.home.copy()
+    q1[0] += size
+    problem = problems.PointToPoint(robot, robot.home, q1)
+    traj = Toppra().plan(problem)
+    assert check(traj, problem, quantities=KINEMATIC).ok
+    assert traj.metadata["path_velocity"].max() > 0.0
+
+
+def test_a_stretched_path_is_the_same_path():
+    path = GeometricPath.spline(np.array([[0.0, 0.0], [1e-3, 2e-3], [3e-3, 1e-3]]))
+    stretched = path.stretched(500.0)
+    s = np.linspace(0.0, path.knots[-1], 7)
+    for order in range(3):
+        np.testing.assert_allclose(
+            stretched.native(500.0 * s, order) * 500.0**order, path.native(s, order), rtol=1e-12
+        )
+
+
+def test_numbers_in_range():
+    # issue 32, defect 6: a tool speed or path velocity of 1e308 overflowed the solve
+    with pytest.raises(InvalidInputError, match="tool_speed must be <= 343 m/s"):
+        Toppra(tool_speed=1e308)
+    with pytest.raises(InvalidInputError, match=r"start_path_velocity must be <= 1e\+08"):
+        Toppra(start_path_velocity=1e200)
+    with pytest.raises(InvalidInputError, match="tool_speed must be a numeric"):
+        Toppra(tool_speed="1")
+    with pytest.raises(InvalidInputError, match="torque must be True or False"):
+        Toppra(torque=1)

@@ -269,7 +269,7 @@ def test_bad_arguments_and_problems():
         ViaPoints().plan(problems.PointToPoint(robot, [0.1, 0, 0, 0], [0.2, 0, 0, 0]))
     with pytest.raises(InvalidInputError, match="blend_time applies to profile 'lspb' only"):
         ViaPoints("quintic", blend_time=0.2)
-    with pytest.raises(InvalidInputError, match="blend_time must be a number > 0"):
+    with pytest.raises(InvalidInputError, match="blend_time must be >= 1e-06 s, got 0 s"):
         ViaPoints("lspb", blend_time=0.0)
     same = [[0.1, 0, 0, 0]] * 3
     for profile in PROFILES:
@@ -279,3 +279,20 @@ def test_bad_arguments_and_problems():
         assert held.duration == pytest.approx(3.0)
         sample = held.sample(held.times(100))
         np.testing.assert_allclose(sample.q, np.broadcast_to(same[0], sample.q.shape), atol=1e-15)
+
+
+def test_blend_time_is_a_duration():
+    # issue 32, defect 6: float("0.2") took text for a number
+    with pytest.raises(InvalidInputError, match="blend_time must be a numeric"):
+        ViaPoints("lspb", blend_time="0.2")
+    with pytest.raises(InvalidInputError, match="blend_time must be <= 86400 s"):
+        ViaPoints("lspb", blend_time=1e200)
+
+
+def test_waypoints_within_the_still_tolerance_are_refused_without_durations():
+    # issue 32, defect 8: one rule with PointToPoint (exact equality was refused, 1e-13 not)
+    robot = get_robot("paddle4")
+    same = [[0.1, 0, 0, 0], [0.1 + 1e-13, 0, 0, 0], [0.1, 0, 0, 0]]
+    for profile in PROFILES:
+        with pytest.raises(InvalidInputError, match="every waypoint equals the first"):
+            ViaPoints(profile).plan(problems.Waypoints(robot, same))
