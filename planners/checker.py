@@ -7,16 +7,19 @@ phases (the planner name is copied into the summary, nothing else of the metadat
 
 How the worst values are found:
 
-* Joint quantities (position, velocity, acceleration, jerk) are sampled at ``rate`` plus every
-  breakpoint and the instant just before each; the worst samples are then refined exactly on
-  their polynomial segments (end points and the real roots of the next derivative), so a peak
-  between two samples is not missed.
+* Joint quantities (position, velocity, acceleration, jerk) are bounded exactly on every
+  polynomial segment, whatever the sampling rate: the worst value is taken over each segment's
+  ends and the real roots of the next derivative, for every segment whose Bernstein enclosure
+  could beat the best end or break the limit, vectorised over segments and joints.
 * Torques are computed by inverse dynamics (Pinocchio's RNEA, through :class:`robots.Robot`) at
-  every sample; they are not refined.
+  every sample: ``rate`` plus every breakpoint and the instant just before each.
 * Jumps are measured exactly, from the polynomial on each side of every breakpoint, and between
   a prescribed start or end velocity (and acceleration, when prescribed) and the trajectory's.
   A jump in a quantity makes every higher derivative unbounded: such findings fail with value
   ``inf``.
+* Every comparison (a limit, a jump, a boundary state) allows the same round-off,
+  :func:`round_off`: a relative ``RELATIVE_SLACK`` of the value's scale plus what the value
+  changes over the round-off of the time at which it is computed.
 * Task constraints (tool on a line, strike schedule, contact) are measured from the tool frame
   pose and Jacobian, computed in one batched call over every instant needed.
 
@@ -177,7 +180,8 @@ class Finding:
         joint: The joint concerned, or None.
         unit: Unit of value, limit and margin, e.g. ``"rad/s"`` (``"-"`` for a relative error).
         detail: One readable sentence on the worst case.
-        ok: Whether the finding passes (margin >= -(1e-9 x scale + 1e-12)).
+        ok: Whether the finding passes: margin >= -slack, the slack from :func:`round_off`
+            (a relative 1e-9 of the scale, 1e-12, and the time round-off times the slope).
     """
 
     name: str
