@@ -258,9 +258,15 @@ def follow_tool_path(
     Raises:
         UnreachableError: A pose along the path has no solution within the joint limits.
         PathJumpError: The solution jumps between samples (with ``on_jump="raise"``).
+        InvalidInputError: Malformed arrays, fewer than 2 or more than MAX_IK_SAMPLES + 1
+            times, times not increasing, or a jump threshold that is not a number > 0.
+        UnknownNameError: An unknown ``on_jump`` policy.
     """
     t = as_vector(times, "times")
-    m = t.size
+    m = as_count(t.size, "the number of times", 2, maximum=MAX_IK_SAMPLES + 1)
+    if np.any(np.diff(t) <= 0.0):
+        raise InvalidInputError("times must be increasing", name="times")
+    threshold = as_positive(jump_threshold, "jump_threshold", "rad or m")
     pose_array = as_array(poses, "poses", (m, 4, 4))
     twist_array = as_array(twists, "twists", (m, 6))
     accel_array = as_array(accelerations, "accelerations", (m, 6))
@@ -288,8 +294,8 @@ def follow_tool_path(
         if i > 0:
             step = np.abs(q[i] - q[i - 1])
             j = int(np.argmax(step))
-            if step[j] > jump_threshold:
-                error = PathJumpError(float(t[i]), robot.joint_names[j], step[j], jump_threshold)
+            if step[j] > threshold:
+                error = PathJumpError(float(t[i]), robot.joint_names[j], step[j], threshold)
                 if on_jump == "raise":
                     raise error
                 warnings.warn(str(error), PathJumpWarning, stacklevel=2)

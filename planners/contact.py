@@ -46,9 +46,9 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import CONTACT_CHOICE, InfeasibleError, InvalidInputError, SolverError
-from optraj.validation import as_array, as_count, as_number, as_vector
+from optraj.validation import as_count, as_number, as_vector
 from problems import PaddleStrike, PoolStrike
-from problems.common import normal_pair, unit_vector
+from problems.common import MAX_TOOL_SPEED, normal_pair, unit_vector
 from robots import JointLimits, Robot, solve_ik
 from robots.ik import LocalIK
 from robots.paddle_ik import BALL_OFFSET
@@ -448,7 +448,7 @@ def twist_ratio(
         robot: The robot.
         q: Configuration [rad or m], shape (n,).
         direction: Direction of the point's velocity, shape (3,) (normalised here).
-        speed: Point speed [m/s], >= 0.
+        speed: Point speed [m/s], in [0, MAX_TOOL_SPEED].
         offset: Distance of the point from the tool origin along the tool z axis [m], at most
             :data:`MAX_OFFSET` either way.
         align_axis: Forbid turning across ``direction`` (pool cue); False leaves the angular
@@ -472,16 +472,8 @@ def twist_ratio(
         )
     config = as_vector(q, "q", robot.dof)
     unit = unit_vector(direction, "direction")
-    speed_value = float(as_array(speed, "speed", ()))
-    if speed_value < 0.0:
-        raise InvalidInputError(f"speed must be >= 0 m/s, got {speed_value:.6g} m/s", name="speed")
-    offset_value = float(as_array(offset, "offset", ()))
-    if abs(offset_value) > MAX_OFFSET:
-        raise InvalidInputError(
-            f"offset must be within +-{MAX_OFFSET:g} m of the tool origin, got "
-            f"{offset_value:.6g} m",
-            name="offset",
-        )
+    speed_value = as_number(speed, "speed", "m/s", minimum=0.0, maximum=MAX_TOOL_SPEED)
+    offset_value = as_number(offset, "offset", "m", minimum=-MAX_OFFSET, maximum=MAX_OFFSET)
     used = robot.limits if limits is None else limits
     if not isinstance(used, JointLimits) or used.names != robot.joint_names:
         raise InvalidInputError(

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 import robots
-from optraj.validation import as_array
+from optraj.validation import as_number
 from problems.paddle_strike import PaddleStrike
 from problems.pick_and_place import PickAndPlace
 from problems.pool_strike import PoolStrike
@@ -49,7 +49,7 @@ def sawyer_pool_shot(
     Raises:
         InvalidInputError: A heading that is not a finite number, or bad speed or ball.
     """
-    heading = np.radians(float(as_array(heading_deg, "heading_deg", ())))
+    heading = np.radians(as_number(heading_deg, "heading_deg", "deg"))
     return PoolStrike(
         robots.load("sawyer"),
         ball=ball,

@@ -18,7 +18,12 @@ from optraj.errors import (
     PathJumpWarning,
     UnknownNameError,
 )
-from planners.cartesian import CartesianStraightLine, LinearTrajectory, path_scaling
+from planners.cartesian import (
+    CartesianStraightLine,
+    LinearTrajectory,
+    follow_tool_path,
+    path_scaling,
+)
 from planners.checker import check
 
 
@@ -202,5 +207,12 @@ def test_settings_are_checked_when_built():
     with pytest.raises(InvalidInputError, match=r"\|end - start\| / speed must be <= 86400 s"):
         LinearTrajectory(np.zeros(3), np.ones(3), 1e-200, np.eye(3))
     line = LinearTrajectory(np.zeros(3), np.ones(3), 1.0, np.eye(3))
+    robot = get_robot("sawyer")
     with pytest.raises(InvalidInputError, match="samples must be an integer >= 1"):
-        line.to_joints(get_robot("sawyer"), get_robot("sawyer").home, samples=-1)
+        line.to_joints(robot, robot.home, samples=-1)
+    pose = robot.tool_pose(robot.home)
+    arrays = (np.array([pose, pose]), np.zeros((2, 6)), np.zeros((2, 6)), robot.home)
+    with pytest.raises(InvalidInputError, match="jump_threshold must be a numeric"):
+        follow_tool_path(robot, [0.0, 1.0], *arrays, jump_threshold="0.1")
+    with pytest.raises(InvalidInputError, match="times must be increasing"):
+        follow_tool_path(robot, [1.0, 0.0], *arrays)
