@@ -21,8 +21,11 @@ free joint states at both ends, solved for
     \Big|\dot q_{K,i} + \frac{\ddot q_{K,i} |\ddot q_{K,i}|}{2 \dddot q_{\max,i}}\Big|
     \le s\, \dot q_{\max,i}
 
-with the positions inside their limits, and the torques at the nodes (the robot's inverse
-dynamics, gravity included) within :math:`s` times the effort limits. The last two rows
+with the positions inside their limits. When its optimum keeps within those limits but its
+torques (the robot's inverse dynamics at the nodes, gravity included) do not, the same NLP
+with the torques bounded by :math:`s` times the effort limits is solved too, and its
+optimum is the answer (torque rows make a solve about three times as long, so they come in
+only where they can change it). The last two rows
 are the approach and the stop: a joint's acceleration changes no faster than its jerk limit,
 so a joint that enters the window slowing down was faster by at least
 :math:`\ddot q^2 / (2 \dddot q_{\max})` before it, and one that leaves it speeding up gets
@@ -95,14 +98,16 @@ class WindowRatio:
     """The least fraction of the joint limits a strike window was found to need.
 
     Attributes:
-        ratio: Largest of ``velocity``, ``acceleration``, ``jerk`` and ``effort``: at the
-            strike's speed, the least factor on the limits that lets the window keep within
-            them [-].
+        ratio: Largest of ``velocity``, ``acceleration`` and ``jerk``, and of ``effort`` when
+            the torques counted (module docstring): at the strike's speed, the least factor on
+            the limits that lets the window keep within them [-].
         velocity: Largest ``|qd_i| / qd_max_i`` at the optimum over the window, between the
             nodes too, and just before and after it (:func:`run_out`) [-].
         acceleration: Largest ``|qdd_i| / qdd_max_i`` [-].
         jerk: Largest ``|jerk_i| / jerk_max_i`` [-].
-        effort: Largest ``|tau_i| / tau_max_i`` at the nodes [-].
+        effort: Largest ``|tau_i| / tau_max_i`` at the nodes [-]; when it is not above 1
+            or the other ratios are, the torques of a point found without torque rows, for
+            information only (not in ``ratio``).
         limit: The quantity that caps the speed first (``"velocity"``, ``"acceleration"``,
             ``"jerk"`` or ``"effort"``).
         joint: The joint with the largest ratio of ``limit``.
@@ -214,7 +219,7 @@ class WindowCheck(CompiledCache):
         limits = problem.limits
         n, k = limits.n, self.intervals
         q = as_vector(q_contact, "q_contact", n)
-        compiled = self._compile(problem.robot, limits)
+        compiled = self._compile(problem.robot, limits, effort=False)
         h = float(problem.window) / k
         line = strike_line(problem, k, q_contact=q)
         samples = line.sample(np.minimum(np.linspace(0.0, problem.window, k + 1), line.duration))
@@ -228,6 +233,32 @@ class WindowCheck(CompiledCache):
         direction = np.asarray(problem.direction, dtype=float)
         e1, e2 = normal_pair(direction)
         p = np.concatenate([problem.entry_point, direction, e1, e2, [float(problem.speed), h]])
+        kinematic = self._solve(problem, compiled, x0, p, effort=False)
+        if kinematic.ratio > 1.0 or kinematic.effort <= 1.0 or not kinematic.converged:
+            return kinematic
+        # Its point keeps the velocities, accelerations and jerks within the limits but not
+        # the torques: the NLP with torque rows decides.
+        compiled = self._compile(problem.robot, limits, effort=True)
+        return self._solve(problem, compiled, x0, p, effort=True)
+
+    def _solve(
+        self,
+        problem: PoolStrike,
+        compiled: _Compiled,
+        x0: FloatArray,
+        p: FloatArray,
+        *,
+        effort: bool,
+    ) -> WindowRatio:
+        """One window NLP solved from ``x0``, and the ratios of its point.
+
+        With ``effort`` (torque rows in the NLP) the effort ratio counts in ``ratio`` and in
+        the binding quantity; without, it is the torques of the point, for information.
+        """
+        limits = problem.limits
+        n, k = limits.n, self.intervals
+        h = float(problem.window) / k
+        vel, acc, jerk = compiled.scale
         result = compiled.solver(
             x0=x0, p=p, lbx=compiled.lbx, ubx=compiled.ubx, lbg=compiled.lbg, ubg=compiled.ubg
         )
@@ -248,12 +279,11 @@ class WindowCheck(CompiledCache):
             q_nodes, vel * states[:, n : 2 * n], acc * states[:, 2 * n :]
         )
         gravity = problem.robot.gravity_torque(q_nodes)
-        effort = np.asarray(limits.effort)
         peaks = (
             _velocity_peaks(states, jerks, h, compiled.scale),
             np.abs(states[:, 2 * n :]).max(axis=0),  # linear on an interval: nodes suffice
             np.abs(jerks).max(axis=0),
-            (np.abs(tau) / effort).max(axis=0),
+            (np.abs(tau) / limits.effort).max(axis=0),
         )
         tops = [float(peak.max()) for peak in peaks]
         # The speed factor each quantity allows: velocity ~ v, acceleration ~ v^2, jerk ~ v^3,
@@ -262,12 +292,12 @@ class WindowCheck(CompiledCache):
             math.inf if top <= 0.0 else top ** (-1.0 / power)
             for power, top in enumerate(tops[:3], start=1)
         ]
-        factors.append(_effort_factor(tau, gravity, effort))
+        factors.append(_effort_factor(tau, gravity, limits.effort) if effort else math.inf)
         which = int(np.argmin(factors))
         joint = int(np.argmax(peaks[which]))
-        allowed = float((vel, acc, jerk, effort)[which][joint])
+        allowed = float((vel, acc, jerk, limits.effort)[which][joint])
         return WindowRatio(
-            ratio=max(tops),
+            ratio=max(tops) if effort else max(tops[:3]),
             velocity=tops[0],
             acceleration=tops[1],
             jerk=tops[2],
@@ -282,12 +312,12 @@ class WindowCheck(CompiledCache):
             iterations=int(stats["iter_count"]),
         )
 
-    def _compile(self, robot: Robot, limits: JointLimits) -> _Compiled:
-        key = (robot.fingerprint, structure_limits(limits), self.intervals)
+    def _compile(self, robot: Robot, limits: JointLimits, *, effort: bool) -> _Compiled:
+        key = (robot.fingerprint, structure_limits(limits), self.intervals, effort)
         with self._lock:
             compiled = self._compiled.get(key)
         if compiled is None:
-            compiled = _compile(robot, limits, self.intervals, self.max_iterations)
+            compiled = _compile(robot, limits, self.intervals, self.max_iterations, effort)
             with self._lock:
                 compiled = self._compiled.setdefault(key, compiled)
         return compiled
@@ -375,8 +405,14 @@ def _velocity_peaks(
     return np.maximum.reduce([nodes, (at_turn / vel).max(axis=0), ends.max(axis=0) / vel])
 
 
-def _compile(robot: Robot, limits: JointLimits, k: int, max_iterations: int) -> _Compiled:
-    """The window NLP: node states and jerks scaled by the limits, then the slack ``s``."""
+def _compile(
+    robot: Robot, limits: JointLimits, k: int, max_iterations: int, effort_rows: bool
+) -> _Compiled:
+    """The window NLP: node states and jerks scaled by the limits, then the slack ``s``.
+
+    With ``effort_rows`` the torques at the nodes are bounded by ``s`` times the effort
+    limits too (the robot's RNEA: about 3 times the solve time, 4 times the build time).
+    """
     symbolic = SymbolicModel(robot)
     lower, upper = np.asarray(limits.lower), np.asarray(limits.upper)
     vel, acc, jerk, effort = (
@@ -417,7 +453,8 @@ def _compile(robot: Robot, limits: JointLimits, k: int, max_iterations: int) -> 
             # The approach into the window and the stop after it (module docstring).
             within(run_out(qd, qdd, jerk, -1.0 if node == 0 else 1.0) / vel)
         within(z[n:])
-        within(rnea(q, qd, qdd) / effort)
+        if effort_rows:
+            within(rnea(q, qd, qdd) / effort)
         if node == k:
             break
         zu = w[(k + 1) * 3 * n + node * n : (k + 1) * 3 * n + (node + 1) * n]

@@ -656,6 +656,25 @@ def test_a_strike_whose_start_gravity_overloads_is_refused_before_any_search(mon
         OptimalControl().build(problem)
 
 
+def test_a_strike_whose_windows_need_more_torque_than_the_limits_is_refused_naming_effort():
+    # From the arm held up (little gravity torque at the start) to a ball held out over the
+    # table with effort limits at 15 %: the first solve is infeasible, and every contact's
+    # window needs more of right_j1's effort than the limits give, at any slower speed too.
+    robot = get_robot("sawyer")
+    up = np.array([0.0, -np.pi / 2, 0.0, 0.0, 0.0, 0.0, 3.3161])
+    shot = problems.sawyer_pool_shot(0.5)
+    limits = robot.limits.scaled(0.15, ("effort",))
+    problem = problems.PoolStrike(robot, shot.ball, shot.direction, 0.5, q_start=up, limits=limits)
+    with pytest.raises(InfeasibleError) as info:
+        OptimalControl().plan(problem)
+    error = info.value
+    assert error.found_by == WINDOW_CHECK
+    assert (error.limit, error.joint) == ("effort", "right_j1")
+    assert error.required > error.allowed == pytest.approx(limits.effort[1])
+    assert error.max_speed == 0.0 and str(error).endswith("looser limits may plan")
+    assert re.search(r"at this speed with limits 1\.\d+ times as large", str(error))
+
+
 @pytest.mark.parametrize("torque", ["auto", True])
 def test_a_start_holding_nearly_its_effort_limit_keeps_no_torque_margin_there(torque):
     # The start holds 99 % of right_j1's effort limit against gravity, more than the 3 %

@@ -138,7 +138,7 @@ def test_rows_are_labelled_with_their_joint_part_and_place():
 
 
 def test_a_solve_past_its_deadline_is_stopped_by_the_iteration_callback():
-    _, compiled = _compiled()
+    _, compiled = _compiled(options=(("ipopt.max_iter", 3), ("ipopt.print_level", 0)))
     rng = np.random.default_rng(3)
     w = _exact_motion(compiled, rng)
     args = {"x0": w, "p": parameter_vector(), "lbg": compiled.lbg, "ubg": compiled.ubg}
