@@ -107,6 +107,7 @@ from robots import JointLimits, Robot
 
 __all__ = [
     "MARGIN",
+    "MAX_GRIDPOINTS",
     "RETRIES",
     "GeometricPath",
     "Toppra",
@@ -123,6 +124,10 @@ MARGIN = 1e-3
 #: more than a small slow-down fixes, or (a motion with a moving start or end, which
 #: cannot be slowed down) with the exceeded limits shrunk further.
 RETRIES = 2
+#: Most grid intervals a planner may ask for: a straight Sawyer move on 20,000 intervals
+#: solved in 0.6 s here, so this many take seconds, and far fewer (the default is at most
+#: 400) already resolve a path; a count of 10**7 would exhaust the memory first.
+MAX_GRIDPOINTS = 100_000
 #: Default grid: one interval per this much joint-space path length [rad or m] ...
 _GRID_STEP = 0.02
 #: ... but no fewer and no more intervals than these.
@@ -1105,9 +1110,9 @@ class Toppra:
     Trajectory path by its own time [s] (a path velocity of 1 replays it at its own pace).
 
     Raises:
-        InvalidInputError: A gridpoint count below 2, a tool speed <= 0 or above
-            MAX_TOOL_SPEED, path velocities below 0 or above 1e8, a torque flag that is not a
-            bool.
+        InvalidInputError: A gridpoint count below 2 or above MAX_GRIDPOINTS, a tool speed
+            <= 0 or above MAX_TOOL_SPEED, path velocities below 0 or above 1e8, a torque flag
+            that is not a bool.
     """
 
     #: Name recorded in trajectory metadata.
@@ -1121,7 +1126,11 @@ class Toppra:
         start_path_velocity: float = 0.0,
         end_path_velocity: float = 0.0,
     ) -> None:
-        self.gridpoints = None if gridpoints is None else as_count(gridpoints, "gridpoints", 2)
+        self.gridpoints = (
+            None
+            if gridpoints is None
+            else as_count(gridpoints, "gridpoints", 2, maximum=MAX_GRIDPOINTS)
+        )
         self.torque = as_flag(torque, "torque")
         self.tool_speed = (
             None
@@ -1284,8 +1293,8 @@ class Toppra:
                 self.name,
                 what="every waypoint equals the first",
                 name="waypoints",
-                remedy="there is no path to parametrise; give segment_durations to hold "
-                "still and plan with planners.ViaPoints",
+                reason="so there is no path to parametrise",
+                remedy="give segment_durations to hold still and plan with planners.ViaPoints",
             )
         limits = _limits_of(problem)
         path, index = _waypoint_path(np.asarray(problem.waypoints, dtype=float), limits)
@@ -1315,7 +1324,8 @@ class Toppra:
         if problem.still:  # with a boundary velocity: no straight line to move along
             raise still_error(
                 self.name,
-                remedy="there is no straight line to move along; use Ruckig or a time scaling",
+                reason="so there is no straight line to move along",
+                remedy="plan it with Ruckig or a time scaling",
             )
         q0 = np.asarray(problem.q_start, dtype=float)
         q1 = np.asarray(problem.q_goal, dtype=float)

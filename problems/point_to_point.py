@@ -42,19 +42,21 @@ def still_error(
     *,
     what: str = "q_goal equals q_start",
     name: str = "q_goal",
+    reason: str = "so the fastest move lasts 0 s",
     remedy: str = "give a duration to hold still",
 ) -> InvalidInputError:
-    """The error for a rest-to-rest move without a duration that stays still.
+    """The error for a move without a duration that stays still.
 
     Args:
         planner: Name of the refusing planner, for the message.
         what: What stays still, for the message.
         name: The argument named by the error.
+        reason: Why that cannot be planned, for the message.
         remedy: What to do instead.
     """
     return InvalidInputError(
-        f"{planner}: {what} (no joint moves more than {STILL_TOLERANCE:g} rad or m), so the "
-        f"fastest move lasts 0 s: {remedy}",
+        f"{planner}: {what} (no joint moves more than {STILL_TOLERANCE:g} rad or m), {reason}: "
+        f"{remedy}",
         name=name,
     )
 

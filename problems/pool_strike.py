@@ -91,8 +91,17 @@ class PoolStrike:
         ball = as_vector(self.ball, "ball", 3)
         direction = unit_vector(self.direction, "direction")
         speed = positive(self.speed, "speed", "m/s", maximum=MAX_TOOL_SPEED)
-        run_up = non_negative(self.run_up, "run_up", "m")
-        follow = non_negative(self.follow_through, "follow_through", "m")
+        # at most MAX_TOOL_SPEED * MAX_WINDOW each: a longer line lasts too long at any speed
+        longest = MAX_TOOL_SPEED * MAX_WINDOW
+        run_up = non_negative(self.run_up, "run_up", "m", maximum=longest)
+        follow = non_negative(self.follow_through, "follow_through", "m", maximum=longest)
+        if run_up + follow > longest:
+            raise InvalidInputError(
+                f"run_up + follow_through = {run_up + follow:.6g} m must be <= {longest:.6g} m: "
+                f"at the fastest speed, {MAX_TOOL_SPEED:g} m/s, a longer strike window lasts "
+                f"more than {MAX_WINDOW:g} s",
+                name="run_up",
+            )
         if run_up + follow <= 0.0:
             raise InvalidInputError(
                 "run_up + follow_through must be > 0 m (the strike needs a window)",

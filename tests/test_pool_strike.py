@@ -44,6 +44,12 @@ def test_geometry_and_timing_of_the_strike():
         ({"ball": (0.7, np.inf, 0.0)}, InvalidInputError, "finite"),
         ({"run_up": 0.0, "follow_through": 0.0}, InvalidInputError, "needs a window"),
         ({"run_up": -0.1}, InvalidInputError, "run_up must be >= 0 m"),
+        ({"run_up": 1e308}, InvalidInputError, "run_up must be <= 20580 m"),
+        (
+            {"run_up": 2e4, "follow_through": 2e4},
+            InvalidInputError,
+            "run_up [+] follow_through = 40000 m must be <= 20580 m",
+        ),
         ({"position_tolerance": np.nan}, InvalidInputError, "position_tolerance must be finite"),
         ({"speed_tolerance": 0.0}, InvalidInputError, "speed_tolerance must be > 0"),
         ({"angle_tolerance": "x"}, InvalidInputError, "angle_tolerance must be a numeric"),

@@ -549,3 +549,16 @@ def test_numbers_in_range():
         Toppra(tool_speed="1")
     with pytest.raises(InvalidInputError, match="torque must be True or False"):
         Toppra(torque=1)
+    with pytest.raises(InvalidInputError, match="gridpoints must be an integer <= 100000"):
+        Toppra(gridpoints=10**7)
+
+
+def test_a_still_move_with_a_boundary_velocity_has_no_line_to_follow():
+    robot = get_robot("paddle4")
+    q = np.array([0.5, 0.1, 0.2, 0.0])
+    qd = np.array([0.2, 0.0, 0.0, 0.0])
+    with pytest.raises(InvalidInputError, match="no straight line to move along") as info:
+        Toppra().plan(problems.PointToPoint(robot, q, q, qd, qd))
+    assert info.value.name == "q_goal"
+    with pytest.raises(InvalidInputError, match="every waypoint equals the first"):
+        Toppra().plan(problems.Waypoints(robot, [q, q + 1e-13]))
