@@ -1200,14 +1200,16 @@ def _via_point(via: ViaPoint, ctx: _Context) -> _Evaluation:
 
     def evaluate() -> list[Finding]:
         q = _evaluate(ctx.derivatives[0], ctx.knots, ctx.grid)
-        qd = _evaluate(ctx.derivatives[1], ctx.knots, ctx.grid)
         distance = np.max(np.abs(q - target[None, :]), axis=1)
         i = int(np.argmin(distance))
         best = (float(distance[i]), float(ctx.grid[i]))
         # Exact minimum on the segments that can beat the best sample: the max-abs distance
         # is piecewise polynomial; its minimum lies at a segment end, a root or a stationary
         # point of one joint's error, or where two joints' errors are equal in magnitude.
-        slack = 2.0 * float(np.max(np.abs(qd))) * ctx.spacing + 1e-15
+        # Every instant lies within spacing / 2 of a sample, and the distance changes no
+        # faster than the fastest joint: its exact peak speed (a factor 2 to spare).
+        speed = _exact_candidates(ctx, 1, lambda x, j: np.abs(x), math.inf)
+        slack = float(np.max(np.abs(speed.value))) * ctx.spacing + 1e-15
         segment = _segments(ctx.knots, ctx.grid)
         close = np.argsort(distance, kind="stable")
         close = close[distance[close] <= best[0] + slack]

@@ -11,6 +11,7 @@ import dataclasses
 import math
 import time
 from dataclasses import dataclass
+from itertools import pairwise
 
 import numpy as np
 import pinocchio as pin
@@ -500,6 +501,25 @@ def test_via_point_passed_between_samples_and_missed(paddle):
     assert brute - 1e-6 <= via.value <= brute + 1e-12
     assert via.value > 5e-3
     assert report.passed("start state", "end state", "velocity")
+
+
+def test_a_via_point_passed_away_from_the_closest_sample_is_found(paddle):
+    # J2 rests at every breakpoint (0, 0.4, 0.35, 0.6, 0.55 rad), the only samples at 0.25 Hz,
+    # and passes its via point 0.2 rad mid-way through the first segment, fast. The closest
+    # sample (0.35 rad, 0.15 away) was refined with a slope bound taken from the samples,
+    # where J2 is still, so the pass went unseen and the via point failed.
+    def at(j2: float) -> np.ndarray:
+        q = Q0.copy()
+        q[1] = j2
+        return q
+
+    path = [0.0, 0.4, 0.35, 0.6, 0.55]
+    pieces = [quintic(at(a), at(b), 1.0) for a, b in pairwise(path)]
+    trajectory = pieces[0].then(pieces[1]).then(pieces[2]).then(pieces[3])
+    problem = Waypoints(paddle, [at(0.0), at(0.2), at(0.55)], via_tolerance=1e-6)
+    found = check(trajectory, problem, rate=0.25)["via point 1"]
+    assert found.ok and found.value < 1e-9
+    assert found.time == pytest.approx(0.5, abs=1e-9)  # the quintic's middle
 
 
 # -------------------------------------------------------------------------- tool paths
