@@ -213,7 +213,7 @@ class Finding:
             if math.isnan(number):
                 raise InvalidInputError(f"finding {self.name!r}: {name} is NaN", name=name)
             object.__setattr__(self, name, number)
-        object.__setattr__(self, "ok", bool(self.ok))
+        object.__setattr__(self, "ok", as_flag(self.ok, "ok"))
 
 
 @dataclass(frozen=True)
@@ -1640,7 +1640,16 @@ def _target(target: Any) -> tuple[Robot, JointLimits, tuple[Any, ...]]:
             f"the problem's limits cover {limits.n} joints, its robot has {robot.dof}",
             name="target",
         )
-    return robot, limits, tuple(constraints())
+    listed = constraints()
+    try:
+        items = tuple(listed)
+    except TypeError as exc:
+        raise InvalidInputError(
+            "target.constraints() must return an iterable of constraints, got "
+            f"{type(listed).__name__}",
+            name="target",
+        ) from exc
+    return robot, limits, items
 
 
 def _quantities(quantities: Iterable[str] | None) -> tuple[str, ...]:

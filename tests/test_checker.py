@@ -837,6 +837,10 @@ def test_malformed_constraint_fields_raise_typed_errors(paddle):
         check(trajectory, paddle, quantities=5)  # type: ignore[arg-type]
     with pytest.raises(InvalidInputError, match="must be a number"):
         Finding("x", "task", "1", 1.0, 0.0, 0.0, None, None, "m", "", True)  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match="ok must be True or False"):
+        Finding("x", "task", 1.0, 1.0, 0.0, 0.0, None, None, "m", "", "no")  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match="iterable of constraints"):
+        check(trajectory, Task(paddle, 5))  # type: ignore[arg-type]
 
 
 def test_report_api(paddle):
