@@ -1446,7 +1446,7 @@ class Toppra:
         if slowdown < 1.0:  # rest to rest: slow the whole motion down just enough
             law = _TimeLaw(problem.grid, law.sd * slowdown)
             ratios = after
-        floor = float(law.t[-1]) / MIN_DURATION
+        floor = float(law.t[-1]) / MIN_DURATION * (1.0 - 1e-12)  # not a rounding below
         if not moving and floor < 1.0:
             # a tiny move lasts MIN_DURATION, the shortest duration any planner takes (a
             # slower rest-to-rest motion only lowers every speed and acceleration)
@@ -1490,19 +1490,22 @@ class Toppra:
 
 
 def _stretch(path: GeometricPath) -> float:
-    """Factor c >= 1 on the path parameter that makes the path at least one unit long.
+    """Factor c >= 1 on the path parameter that brings a short path's numbers to toppra's scale.
 
     toppra's Seidel solver tests feasibility with absolute tolerances (1e-10, 1e-8; see
-    :func:`_normalised_rows`), and near a rest end the squared path velocity is about
-    2 a ds (a the path acceleration bound, ds the grid step): on a Sawyer line 1e-9 rad long
-    with 100 intervals that is about 1.4e-10, and toppra called the controllable set empty on
-    moves of 1e-11 to 1e-9 rad.
-    In the parameter c s the squared path velocities grow by c^2 and the path acceleration by
-    c, so a short path is solved in units where they are of the size of a unit-length path's.
-    Paths at least one unit long are solved as they are.
+    :func:`_normalised_rows`) and caps values at 1e8 (``toppra.constants.VERYLARGE``). Along
+    a path of length L at a path acceleration bound a, the squared path velocity is about
+    a L in the middle and 2 a ds near a rest end (ds = L / N the grid step): on a Sawyer
+    line 1e-9 rad long with 100 intervals that is about 1.4e-10, and toppra called the
+    controllable set empty on moves of 1e-11 to 1e-9 rad. In the parameter c s squared path
+    velocities grow by c^2 and path accelerations by c; c = 1 / sqrt(L) makes the squared
+    path velocities of order a (a L c^2 = a, 2 a / N at the ends) and keeps the path
+    accelerations, a / sqrt(L), below the cap for any L above STILL_TOLERANCE (c = 1 / L
+    instead pushed them into the cap, and tiny moves came out 100 times slower than
+    optimal). Paths at least one unit long are solved as they are.
     """
     span = float(path.knots[-1] - path.knots[0])
-    return 1.0 / span if 0.0 < span < _STRETCH_BELOW else 1.0
+    return 1.0 / math.sqrt(span) if 0.0 < span < _STRETCH_BELOW else 1.0
 
 
 def _refined(problem: ToppraProblem, intervals: NDArray[np.intp]) -> ToppraProblem:
