@@ -25,13 +25,18 @@ import problems
 import robots
 
 __all__ = [
+    "BASIC",
+    "PLANNERS",
+    "PROMISES",
     "ROBOTS",
     "ControllerSpec",
     "PlannerSpec",
     "ProblemSpec",
     "bad_values",
+    "cartesian_lines",
     "configurations",
     "controller_specs",
+    "finite_everywhere",
     "limit_scales",
     "paddle_strikes",
     "point_to_points",

@@ -162,6 +162,23 @@ KNOWN = [
         "the checker's tool speed finding fails the plan by 6.5e-7 m/s over the 1 m/s cap "
         "(round-off of the IK-sampled line against an exact cap; issue 32, items 3 and 10)",
     ),
+    (
+        "cubic given boundary accelerations",
+        PlannerSpec("Cubic"),
+        ProblemSpec(
+            "paddle4",
+            "PointToPoint",
+            {
+                "q_start": [0.0, 0.0, 0.0, 0.0],
+                "q_goal": [0.0, 0.0, 0.0, 1.0],
+                "qdd_start": [0.0, 0.0, 0.0, 0.0],
+                "qdd_goal": [0.0, 0.0, 0.0, 0.0],
+            },
+        ),
+        "Cubic plans a move with prescribed accelerations (0 rad/s^2) that starts and ends "
+        "at 30 rad/s^2: the checker fails the start and end states; a cubic cannot meet "
+        "accelerations and must refuse them (planners/time_scaling.py)",
+    ),
 ]
 
 
