@@ -107,7 +107,8 @@ class JointProfile(ABC):
 
         Raises:
             InvalidInputError: The problem is not a PointToPoint, or it starts or ends moving
-                (this profile plans rest-to-rest moves), or its goal equals its start and it
+                (this profile plans rest-to-rest moves), or it prescribes an acceleration
+                (which this profile does not meet), or its goal equals its start and it
                 has no duration (:meth:`problems.PointToPoint.require_motion`).
         """
         if not isinstance(problem, PointToPoint):
@@ -116,16 +117,20 @@ class JointProfile(ABC):
                 f"{type(problem).__name__}",
                 name="problem",
             )
-        for label, values in (
-            ("qd_start", problem.qd_start),
-            ("qd_goal", problem.qd_goal),
-            ("qdd_start", problem.qdd_start),
-            ("qdd_goal", problem.qdd_goal),
-        ):
+        for label, values in (("qd_start", problem.qd_start), ("qd_goal", problem.qd_goal)):
             if values is not None and np.any(np.asarray(values) != 0.0):
                 raise InvalidInputError(
                     f"{type(self).__name__} plans rest-to-rest moves; {label} = "
                     f"{np.round(np.asarray(values), 6).tolist()} is not zero",
+                    name=label,
+                )
+        for label in ("qdd_start", "qdd_goal"):
+            # its end accelerations follow from the timing (an LSPB starts at full
+            # acceleration): a prescribed one, even zero, is not met
+            if getattr(problem, label) is not None:
+                raise InvalidInputError(
+                    f"{type(self).__name__} cannot meet prescribed accelerations ({label} is "
+                    "given); leave it None or use Quintic",
                     name=label,
                 )
         problem.require_motion(self.name)

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
@@ -143,7 +143,10 @@ def _joint_rates(
     rows, columns = jac_free.shape
     if columns > rows and np.linalg.matrix_rank(jac_free) == rows:
         null_space = np.eye(columns) - pseudo_inverse @ jac_free
-        qdd[free] += null_space @ jac_dot[:, free].T @ np.linalg.solve(jac_free @ jac_free.T, twist)
+        # (J J^T)^-1 = J^+^T J^+ at full row rank, without a solve that fails near a
+        # singularity (where matrix_rank still counts the rows)
+        inverse_twist = pseudo_inverse.T @ (pseudo_inverse @ twist)
+        qdd[free] += null_space @ jac_dot[:, free].T @ inverse_twist
     return qd, qdd
 
 
@@ -357,6 +360,7 @@ class CartesianStraightLine:
                 f"{type(problem).__name__}",
                 name="problem",
             )
+        problem.require_motion(self.name)  # a still line without a duration: 0 s
         started = time.perf_counter()
         robot = problem.robot
         start, goal = np.asarray(problem.T_start), np.asarray(problem.T_goal)
@@ -393,7 +397,39 @@ class CartesianStraightLine:
             )
 
         traj = at(self._duration(problem, unit, float(np.max(ds))))
+        if problem.speed is not None:
+            traj = self._within_speed_cap(problem, traj, at)
         return stamp(traj, self.name, started, samples=self.samples)
+
+    def _within_speed_cap(
+        self, problem: CartesianLine, traj: Trajectory, at: Callable[[float], Trajectory]
+    ) -> Trajectory:
+        """The plan slowed down until the checker finds the tool within the speed cap.
+
+        The joint path through the IK samples carries the tool a hair off the exact profile
+        (6.5e-7 m/s over a 1 m/s cap in a fuzz case), and the tool speed scales as 1 / T, so
+        the duration grows by the checker's own peak-to-cap ratio (sampled at its default
+        rate and every breakpoint; a second pass covers a peak that moved between samples).
+
+        Raises:
+            InfeasibleError: A fixed duration whose plan is over the cap.
+        """
+        cap = float(problem.speed)  # type: ignore[arg-type]
+        target = _LimitsOnly(problem.robot, problem.limits)
+        for _ in range(3):
+            peak = check(traj, target, quantities=[], tool_speed=cap)["tool speed"].value
+            if peak <= cap:
+                return traj
+            if problem.duration is not None:
+                raise InfeasibleError(
+                    f"a {self.profile} line of {problem.length:.4g} m in {traj.duration:.4g} s "
+                    f"takes the tool to {peak:.6g} m/s, above the speed cap {cap:.6g} m/s",
+                    limit="tool speed",
+                    required=peak,
+                    allowed=cap,
+                )
+            traj = at(traj.duration * (peak / cap) * (1.0 + 1e-9))
+        return traj
 
     def _shortest(self, unit: Trajectory, problem: CartesianLine) -> float:
         """Shortest duration within the joint limits, from the exact peaks of the 1 s path.

@@ -376,11 +376,15 @@ class _Polynomial(JointProfile):
             "a0": zeros if problem.qdd_start is None else np.asarray(problem.qdd_start),
             "a1": zeros if problem.qdd_goal is None else np.asarray(problem.qdd_goal),
         }
-        if self.degree < 5 and (np.any(boundary["a0"] != 0.0) or np.any(boundary["a1"] != 0.0)):
-            raise InvalidInputError(
-                f"a {self.name} cannot meet prescribed accelerations; use Quintic",
-                name="qdd_start",
-            )
+        # a cubic's end accelerations follow from its positions and velocities: it meets no
+        # prescribed acceleration, not even zero (a rest-to-rest cubic starts at 6 delta/T^2)
+        for label in ("qdd_start", "qdd_goal"):
+            if self.degree < 5 and getattr(problem, label) is not None:
+                raise InvalidInputError(
+                    f"a {self.name} cannot meet prescribed accelerations ({label} is given); "
+                    "leave it None or use Quintic",
+                    name=label,
+                )
         return boundary
 
     def _paddle(self, problem: PaddleStrike) -> Trajectory:

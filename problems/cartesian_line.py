@@ -17,6 +17,7 @@ from problems.common import (
     resolve_limits,
 )
 from problems.constraints import BoundaryState, Constraint, ToolPath
+from problems.point_to_point import STILL_TOLERANCE, still_error
 from robots import JointLimits, Robot, solve_ik
 
 __all__ = ["CartesianLine"]
@@ -84,6 +85,36 @@ class CartesianLine:
         return float(
             np.linalg.norm(np.asarray(self.T_goal)[:3, 3] - np.asarray(self.T_start)[:3, 3])
         )
+
+    @property
+    def still(self) -> bool:
+        """Whether T_goal equals T_start: the tool moves and turns by at most STILL_TOLERANCE.
+
+        The rule of :attr:`problems.PointToPoint.still`, in m for the position and rad for
+        the rotation angle.
+        """
+        start, goal = np.asarray(self.T_start), np.asarray(self.T_goal)
+        turn = start[:3, :3].T @ goal[:3, :3]
+        # the angle from its sine and cosine: arccos alone turns round-off into 1e-8 rad
+        sine = 0.5 * np.linalg.norm(
+            [turn[2, 1] - turn[1, 2], turn[0, 2] - turn[2, 0], turn[1, 0] - turn[0, 1]]
+        )
+        angle = float(np.arctan2(sine, 0.5 * (np.trace(turn) - 1.0)))
+        return self.length <= STILL_TOLERANCE and angle <= STILL_TOLERANCE
+
+    def require_motion(self, planner: str) -> None:
+        """Refuse, for ``planner``, a line that stays still and has no duration.
+
+        Raises:
+            InvalidInputError: Naming ``T_goal``, saying to give a duration to hold still.
+        """
+        if self.duration is None and self.still:
+            raise still_error(
+                planner,
+                what="T_goal equals T_start",
+                within="the tool moves and turns by at most",
+                name="T_goal",
+            )
 
     def constraints(self) -> tuple[Constraint, ...]:
         """Rest at the start configuration, on the line throughout, rest at the end."""

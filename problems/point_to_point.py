@@ -41,6 +41,7 @@ def still_error(
     planner: str,
     *,
     what: str = "q_goal equals q_start",
+    within: str = "no joint moves more than",
     name: str = "q_goal",
     reason: str = "so the fastest move lasts 0 s",
     remedy: str = "give a duration to hold still",
@@ -50,13 +51,13 @@ def still_error(
     Args:
         planner: Name of the refusing planner, for the message.
         what: What stays still, for the message.
+        within: What the tolerance bounds, for the message.
         name: The argument named by the error.
         reason: Why that cannot be planned, for the message.
         remedy: What to do instead.
     """
     return InvalidInputError(
-        f"{planner}: {what} (no joint moves more than {STILL_TOLERANCE:g} rad or m), {reason}: "
-        f"{remedy}",
+        f"{planner}: {what} ({within} {STILL_TOLERANCE:g} rad or m), {reason}: {remedy}",
         name=name,
     )
 

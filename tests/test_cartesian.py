@@ -216,3 +216,40 @@ def test_settings_are_checked_when_built():
         follow_tool_path(robot, [0.0, 1.0], *arrays, jump_threshold="0.1")
     with pytest.raises(InvalidInputError, match="times must be increasing"):
         follow_tool_path(robot, [1.0, 0.0], *arrays)
+
+
+def test_a_still_line_without_a_duration_is_refused_and_with_one_held():
+    # issue 32, defects 8 and 6: a zero-length line at Sawyer's stretched-out q = 0 raised
+    # numpy's LinAlgError (J J^T singular); elsewhere it planned a 4e-5 s trajectory
+    robot = get_robot("sawyer")
+    q = np.zeros(robot.dof)
+    pose = robot.tool_pose(q)
+    still = problems.CartesianLine(robot, pose, pose, q_start=q)
+    with pytest.raises(InvalidInputError, match="T_goal equals T_start"):
+        CartesianStraightLine().plan(still)
+    held = problems.CartesianLine(robot, pose, pose, q_start=q, duration=0.5)
+    traj = CartesianStraightLine().plan(held)
+    assert traj.duration == pytest.approx(0.5)
+    assert check(traj, held, quantities=("position", "velocity", "acceleration")).ok
+
+
+def test_a_line_at_its_speed_cap_passes_the_checkers_tool_speed():
+    # A fuzz finding of issue 32: the IK-sampled joint path took the tool 6.5e-7 m/s over
+    # a 1 m/s cap, and the checker failed the plan.
+    robot = get_robot("paddle4")
+    problem = problems.CartesianLine(
+        robot,
+        [[0, 0, 1, 1.0], [1, 0, 0, 0], [0, 1, 0, 0.3], [0, 0, 0, 1]],
+        [
+            [-0.18640329676226966, 0.0, 0.9824733131012553, 1.089508459030042],
+            [0.9824733131012553, 0.0, 0.18640329676226966, 0.3774666759435965],
+            [0.0, 1.0, 0.0, 0.3],
+            [0.0, 0.0, 0.0, 1.0],
+        ],
+        q_start=[0.5, 0.0, 0.75, 0.0],
+        speed=1.0,
+    )
+    traj = CartesianStraightLine("lspb").plan(problem)
+    report = check(traj, problem, quantities=("position", "velocity", "acceleration"))
+    assert report["tool speed"].value <= 1.0
+    assert report.ok, report

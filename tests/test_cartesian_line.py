@@ -42,3 +42,18 @@ def test_unreachable_goal_and_inconsistent_start_are_errors():
         CartesianLine(robot, start, start, q_start=robot.home, duration=1e-200)
     with pytest.raises(InvalidInputError, match="duration must be <= 86400 s"):
         CartesianLine(robot, start, start, q_start=robot.home, duration=1e200)
+
+
+def test_a_still_line_is_valid_and_refused_only_at_planning_time():
+    # issue 32, defect 8: the rule of PointToPoint for a tool line
+    robot = get_robot("sawyer")
+    start = robot.tool_pose(robot.home)
+    line = CartesianLine(robot, start, start.copy(), q_start=robot.home)
+    assert line.still
+    with pytest.raises(InvalidInputError, match="T_goal equals T_start") as info:
+        line.require_motion("test")
+    assert info.value.name == "T_goal" and "give a duration to hold still" in str(info.value)
+    CartesianLine(robot, start, start, q_start=robot.home, duration=0.5).require_motion("test")
+    moved = start.copy()
+    moved[:3, 3] += [2e-12, 0.0, 0.0]
+    assert not CartesianLine(robot, start, moved, q_start=robot.home).still

@@ -387,3 +387,12 @@ def test_text_and_bools_are_not_numbers():
         LSPB(cruise_time=1e200)
     with pytest.raises(InvalidInputError, match="check_limits must be True or False"):
         LSPB(blend_time=0.1, check_limits=0)
+
+
+def test_prescribed_accelerations_are_refused_even_zero():
+    # An LSPB starts at full acceleration: a prescribed zero is not met (the checker fails it).
+    robot = get_robot("paddle4")
+    problem = problems.PointToPoint(robot, np.zeros(4), [0.0, 0.0, 0.0, 1.0], qdd_goal=np.zeros(4))
+    with pytest.raises(InvalidInputError, match="cannot meet prescribed accelerations") as info:
+        LSPB().plan(problem)
+    assert info.value.name == "qdd_goal"

@@ -186,3 +186,18 @@ def test_durations_are_numbers_in_range_in_the_planner_and_in_move(profile, dura
         profile(duration=duration)
     with pytest.raises(InvalidInputError, match=match):
         profile().move([0.1, 0, 0, 0], [0.2, 0, 0, 0], limits, duration)
+
+
+def test_a_cubic_refuses_even_zero_prescribed_accelerations():
+    # A rest-to-rest cubic starts at 6 delta / T^2: it planned a move given qdd = 0 that the
+    # checker then failed at both ends (a fuzz finding of issue 32).
+    robot = get_robot("paddle4")
+    for label in ("qdd_start", "qdd_goal"):
+        problem = problems.PointToPoint(
+            robot, np.zeros(4), [0.0, 0.0, 0.0, 1.0], **{label: np.zeros(4)}
+        )
+        with pytest.raises(InvalidInputError, match="cannot meet prescribed accelerations") as info:
+            Cubic().plan(problem)
+        assert info.value.name == label
+        traj = Quintic().plan(problem)
+        assert check(traj, problem).ok
