@@ -1530,8 +1530,10 @@ class OptimalControl(CompiledCache):
                 ``torque=False``; a strike no contact configuration can make.
         """
         if isinstance(problem, PointToPoint):
+            problem.require_motion(self.name)
             return self._held(_point_to_point(problem))
         if isinstance(problem, Waypoints):
+            problem.require_motion(self.name)
             return self._held(_waypoints(problem))
         if isinstance(problem, (PoolStrike, PaddleStrike)):
             self._strike_start_held(problem)

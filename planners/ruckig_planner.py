@@ -772,8 +772,8 @@ def _move(
         if interface == "velocity":
             raise InvalidInputError("nothing to stop: the joints are already at rest", name="qd0")
         raise InvalidInputError(
-            "nothing to move: the start state is the target state; give a minimum_duration "
-            "to hold it",
+            "q_goal equals q_start and the boundary velocities and accelerations match, so "
+            "the move lasts 0 s: give a minimum_duration to hold still",
             name="q_goal",
         )
     stopping = interface == "velocity"
@@ -1029,7 +1029,8 @@ class Ruckig(JointProfile):
             See :func:`state_to_state`.
         """
         limits = _limits(limits)
-        start, goal, duration = rest_to_rest_inputs(q_start, q_goal, limits, duration)
+        still_rule = None if self.minimum_duration is not None else self.name
+        start, goal, duration = rest_to_rest_inputs(q_start, q_goal, limits, duration, still_rule)
         return state_to_state(
             start,
             None,
@@ -1065,6 +1066,8 @@ class Ruckig(JointProfile):
                 f"{type(problem).__name__}",
                 name="problem",
             )
+        if self.minimum_duration is None:  # with one, a still move is a hold
+            problem.require_motion(self.name)
         started = time.perf_counter()
         limits = _limits(problem.limits)
         minimum = self.minimum_duration

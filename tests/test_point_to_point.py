@@ -70,8 +70,10 @@ _PLANNERS = {
     "quintic": (planners.Quintic, None),
     "lspb": (planners.LSPB, ("position", "velocity", "acceleration")),
     "toppra": (planners.Toppra, ("position", "velocity", "acceleration")),
+    "ruckig": (planners.Ruckig, None),
+    "optimal-control": (planners.OptimalControl, None),
 }
-_HOLDS = ("cubic", "quintic", "lspb")  # the planners that take a duration
+_HOLDS = ("cubic", "quintic", "lspb", "ruckig")  # the planners that take a duration
 
 
 @pytest.mark.parametrize("name", list(_PLANNERS))
@@ -126,7 +128,7 @@ def test_a_still_move_with_boundary_velocities_is_no_hold():
 
 
 @pytest.mark.parametrize("robot_name", ["paddle4", "sawyer", "youbot"])
-@pytest.mark.parametrize("name", list(_PLANNERS))
+@pytest.mark.parametrize("name", [n for n in _PLANNERS if n != "optimal-control"])
 def test_moves_just_above_the_tolerance_plan_and_pass_the_checker(robot_name, name):
     # Toppra called moves of 1e-11 to 1e-9 rad infeasible (an empty controllable set).
     robot = get_robot(robot_name)
