@@ -17,7 +17,6 @@ from hypothesis.errors import InvalidArgument
 import planners
 from fuzz.strategies import PROMISES, PlannerSpec, ProblemSpec, finite_everywhere
 from optraj.errors import OptrajError
-from planners.trajectory import MAX_SAMPLES
 
 __all__ = ["assert_nan_free", "check_rate", "judge_plan", "plan_or_refusal", "same_plan"]
 
@@ -55,9 +54,14 @@ def plan_or_refusal(planner: Any, problem: Any) -> planners.Trajectory | OptrajE
         return exc
 
 
+#: Most samples one check takes [-]: a long trajectory is checked at a lower rate (the
+#: checker bounds every polynomial segment exactly whatever the rate).
+CHECK_SAMPLES = 200_000
+
+
 def check_rate(traj: planners.Trajectory, rate: float = 1000.0) -> float:
-    """``rate`` [Hz], lowered for a long trajectory to stay within the checker's sample cap."""
-    return min(rate, MAX_SAMPLES / 2.0 / max(traj.duration, 1e-9))
+    """``rate`` [Hz], lowered for a long trajectory to at most CHECK_SAMPLES samples."""
+    return min(rate, CHECK_SAMPLES / max(traj.duration, 1e-9))
 
 
 def judge_plan(planner_spec: PlannerSpec, problem_spec: ProblemSpec, rate: float = 1000.0) -> str:

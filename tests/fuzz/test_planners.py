@@ -128,8 +128,10 @@ _SAWYER_ZERO_POSE = [
     [0.17364561873272552, -0.9848082041905208, -7.346410206443554e-06, 0.31699761608988825],
     [0.0, 0.0, 0.0, 1.0],
 ]
-#: Reproducers of what the fuzz runs found: (id, planner, problem, open issue or None).
+#: Reproducers of what the fuzz runs found: (id, planner, problem, xfail reason while the
+#: library fix is open, else None). All three were fixed in e3e8da6.
 KNOWN = [
+    # Found: numpy LinAlgError (singular J J^T) in planners/cartesian.py _joint_rates.
     (
         "zero-length line at Sawyer's stretched-out q = 0",
         PlannerSpec("CartesianStraightLine", ("quintic",)),
@@ -138,9 +140,9 @@ KNOWN = [
             "CartesianLine",
             {"T_start": _SAWYER_ZERO_POSE, "T_goal": _SAWYER_ZERO_POSE, "q_start": [0.0] * 7},
         ),
-        "numpy LinAlgError (singular J J^T) from planners/cartesian.py _joint_rates at a "
-        "singular configuration; the fix belongs to planners/cartesian.py (issue 32, item 6)",
+        None,
     ),
+    # Found: the checker's tool speed 6.5e-7 m/s over the plan's 1 m/s cap.
     (
         "lspb line on paddle4 at its speed cap 1 m/s",
         PlannerSpec("CartesianStraightLine", ("lspb",)),
@@ -159,9 +161,9 @@ KNOWN = [
                 "speed": 1.0,
             },
         ),
-        "the checker's tool speed finding fails the plan by 6.5e-7 m/s over the 1 m/s cap "
-        "(round-off of the IK-sampled line against an exact cap; issue 32, items 3 and 10)",
+        None,
     ),
+    # Found: a cubic that ignored prescribed accelerations (30 rad/s^2 at its ends).
     (
         "cubic given boundary accelerations",
         PlannerSpec("Cubic"),
@@ -175,9 +177,7 @@ KNOWN = [
                 "qdd_goal": [0.0, 0.0, 0.0, 0.0],
             },
         ),
-        "Cubic plans a move with prescribed accelerations (0 rad/s^2) that starts and ends "
-        "at 30 rad/s^2: the checker fails the start and end states; a cubic cannot meet "
-        "accelerations and must refuse them (planners/time_scaling.py)",
+        None,
     ),
 ]
 
