@@ -120,20 +120,22 @@ def _check_fit(robot: str, problem: str) -> None:
 
 
 def _joint_values(robot: Any, values: Any, option: str) -> list[float]:
-    """Joint positions from a pose name or one number per joint [rad or m]."""
+    """Joint positions [rad or m] from a pose name or a list of one number per joint.
+
+    Numbers are numbers here (a bool, or a string from a file, is refused): the words of the
+    command line are parsed by :func:`_joint_words` first.
+    """
+    from optraj.validation import as_vector
+
     if isinstance(values, str):
-        values = [values]
-    values = list(values)
-    if len(values) == 1 and isinstance(values[0], str) and values[0] in robot.poses:
-        return [float(v) for v in robot.poses[values[0]]]
-    try:
-        numbers = [float(v) for v in values]
-    except (TypeError, ValueError):
-        raise InvalidInputError(
-            f"{option} takes {robot.dof} joint positions [rad or m] or a pose name "
-            f"({', '.join(robot.poses)}), got {' '.join(map(str, values))!r}",
-            name=option,
-        ) from None
+        if values not in robot.poses:
+            raise InvalidInputError(
+                f"{option} takes {robot.dof} joint positions [rad or m] or a pose name "
+                f"({', '.join(robot.poses)}), got {values!r}",
+                name=option,
+            )
+        return as_vector(robot.poses[values], option).tolist()
+    numbers = as_vector(values, option).tolist()  # refuses NaN, inf, bools, text and nesting
     if len(numbers) != robot.dof:
         raise InvalidInputError(
             f"{option} needs {robot.dof} values [rad or m], one per joint of {robot.name} "
@@ -143,6 +145,20 @@ def _joint_values(robot: Any, values: Any, option: str) -> list[float]:
     return numbers
 
 
+def _joint_words(words: Sequence[str], option: str) -> str | list[float]:
+    """The words given to ``--q-start`` or ``--q-goal``: one pose name, or numbers [rad or m]."""
+    try:
+        return [float(word) for word in words]
+    except ValueError:
+        if len(words) == 1:
+            return words[0]  # a pose name, looked up with the robot
+        raise InvalidInputError(
+            f"{option} takes joint positions [rad or m], one per joint, or one pose name, got "
+            f"{' '.join(words)!r}",
+            name=option,
+        ) from None
+
+
 def build_problem(robot: str, problem: str, options: Mapping[str, Any]) -> Any:
     """Build a problem from its command-line name and JSON-able options.
 
@@ -150,8 +166,9 @@ def build_problem(robot: str, problem: str, options: Mapping[str, Any]) -> Any:
         robot: Robot name.
         problem: One of :data:`PROBLEMS`.
         options: ``speed`` [m/s], ``ball`` [m], ``heading`` [deg] (strikes); ``q_start``,
-            ``q_goal`` [rad or m], ``duration`` [s] (point-to-point); ``limit_scale`` [-]
-            (all). Missing or None: the default.
+            ``q_goal`` (a pose name or one number per joint [rad or m]), ``duration`` [s]
+            (point-to-point); ``limit_scale`` [-] (all). Missing or None: the default. Numbers
+            must be numbers (bools and strings are refused).
 
     Raises:
         UnknownNameError, InvalidInputError: An unknown name, a problem for another robot, or
@@ -161,32 +178,52 @@ def build_problem(robot: str, problem: str, options: Mapping[str, Any]) -> Any:
 
     import problems
     import robots
+    from optraj.validation import as_duration, as_fraction, as_number, as_vector
 
     _check_fit(robot, problem)
+    if not isinstance(options, Mapping):
+        raise InvalidInputError(
+            f"options must be a mapping of option names to values, got {type(options).__name__}",
+            name="options",
+        )
     get = {key: value for key, value in options.items() if value is not None}.get
+
+    def number(key: str, default: float, unit: str) -> float:
+        """An option that is one number (a bool or a string of a file is refused)."""
+        return as_number(get(key, default), f"--{key}", unit)
+
+    # The ranges of speed, ball and heading are the problems' to check; here their types.
+    scale = as_fraction(get("limit_scale", 1.0), "--limit-scale")
     try:
         if problem == "pool-shot":
-            extra = {"ball": tuple(get("ball"))} if get("ball") is not None else {}
+            extra = (
+                {"ball": tuple(as_vector(get("ball"), "--ball", 3))}
+                if get("ball") is not None
+                else {}
+            )
             built = problems.sawyer_pool_shot(
-                speed=float(get("speed", 1.0)), heading_deg=float(get("heading", 0.0)), **extra
+                speed=number("speed", 1.0, "m/s"),
+                heading_deg=number("heading", 0.0, "deg"),
+                **extra,
             )
         elif problem == "paddle-strike":
             from problems.scenarios import SEED_PADDLE_BALLS
 
             built = problems.PaddleStrike(
                 robots.load("paddle4"),
-                ball=tuple(get("ball", SEED_PADDLE_BALLS[0])),
-                speed=float(get("speed", 0.0)),
+                ball=tuple(as_vector(get("ball", SEED_PADDLE_BALLS[0]), "--ball", 3)),
+                speed=number("speed", 0.0, "m/s"),
             )
         elif problem == "pick-and-place":
             built = problems.youbot_two_blocks()
         else:
             model = robots.load(robot)
+            duration = get("duration")
             built = problems.PointToPoint(
                 model,
                 q_start=_joint_values(model, get("q_start", "home"), "--q-start"),
                 q_goal=_joint_values(model, get("q_goal", "home"), "--q-goal"),
-                duration=get("duration"),
+                duration=None if duration is None else as_duration(duration, "--duration"),
             )
             if built.duration is None and list(built.q_start) == list(built.q_goal):
                 raise InvalidInputError(
@@ -195,12 +232,11 @@ def build_problem(robot: str, problem: str, options: Mapping[str, Any]) -> Any:
                     f"({', '.join(model.poses)}), or a --duration to hold still",
                     name="q_goal",
                 )
-        scale = float(get("limit_scale", 1.0))
         if scale != 1.0:
             built = dataclasses.replace(built, limits=built.robot.limits.scaled(scale))
     except OptrajError:
         raise
-    except (TypeError, ValueError, KeyError) as exc:
+    except (TypeError, ValueError, KeyError) as exc:  # a problem's own untyped refusal
         raise InvalidInputError(
             f"bad options for problem {problem!r}: {exc}", name="options"
         ) from exc
@@ -253,6 +289,8 @@ def _plan_options(args: argparse.Namespace) -> dict[str, Any]:
                 f"for {', '.join(kinds)}",
                 name=key,
             )
+        if key in ("q_start", "q_goal"):
+            value = _joint_words(value, f"--{key.replace('_', '-')}")
         options[key] = value
     if args.limit_scale != 1.0:
         options["limit_scale"] = args.limit_scale
@@ -278,10 +316,7 @@ def _cmd_plan(args: argparse.Namespace, out: TextIO) -> int:
     tag_trajectory(traj, robot, args.problem, options)
     report = planners.check(traj, problem)
     path = Path(args.out)
-    try:
-        traj.to_json(path)
-    except OSError as exc:
-        raise InvalidInputError(f"cannot write {str(path)!r}: {exc.strerror}", name="out") from exc
+    traj.to_json(path)  # a typed error when the path cannot be written
     if len(traj.phases) > 4:
         names = [p.name for p in traj.phases]
         phases = ", ".join([*names[:3], "...", names[-1]])
@@ -330,13 +365,13 @@ def _show(options: Mapping[str, Any]) -> str:
 def _cmd_check(args: argparse.Namespace, out: TextIO) -> int:
     import planners
     import robots
+    from optraj.validation import as_positive
+    from planners.checker import MAX_RATE
 
-    try:
-        traj = planners.Trajectory.from_json(Path(args.file))
-    except (OSError, ValueError) as exc:
-        if isinstance(exc, OptrajError):
-            raise
-        raise InvalidInputError(f"cannot read {args.file!r}: {exc}", name="file") from exc
+    # Before the file is read: a bad flag is the first thing to say.
+    rate = as_positive(args.rate, "--rate", "Hz", maximum=MAX_RATE)
+    # Typed errors for a missing, unreadable, oversized, deeply nested or malformed file.
+    traj = planners.Trajectory.from_json(Path(args.file))
     saved = traj.metadata.get("robot")
     if saved is not None and not isinstance(saved, str):
         raise InvalidInputError(f"{args.file!r} has a malformed robot name", name="robot")
@@ -362,7 +397,7 @@ def _cmd_check(args: argparse.Namespace, out: TextIO) -> int:
     else:
         target = robots.load(robot)
         against = f"robot {robot}, its joint limits only (no problem recorded for it)"
-    report = planners.check(traj, target, rate=args.rate)
+    report = planners.check(traj, target, rate=rate)
     out.write(f"{args.file}: checked against {against}\n{report}\n")
     return 0 if report.ok else 1
 
@@ -590,9 +625,13 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
     stream = out if out is not None else sys.stdout
     try:
         return int(args.run(args, stream))
-    except OptrajError as exc:
-        message = " ".join(str(exc).split())  # one line, whatever the message holds
-        print(f"optraj: error: {message}", file=sys.stderr)
+    except (OptrajError, OSError) as exc:
+        # Every error a user can cause is an OptrajError; an OSError is a file or folder
+        # named on the command line (or the disk) failing outside the library's own checks.
+        message = str(exc)
+        if isinstance(exc, OSError) and exc.filename is not None:
+            message = f"cannot use {str(exc.filename)!r}: {exc.strerror or exc}"
+        print(f"optraj: error: {' '.join(message.split())}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("optraj: interrupted", file=sys.stderr)

@@ -14,7 +14,9 @@ from __future__ import annotations
 import csv
 import json
 import math
+import os
 import pickle
+import reprlib
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,7 +26,16 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, UnknownNameError
-from optraj.validation import as_array, as_count, as_vector
+from optraj.validation import (
+    MAX_COUNT,
+    MAX_DURATION,
+    as_array,
+    as_count,
+    as_flag,
+    as_number,
+    as_positive,
+    as_vector,
+)
 
 __all__ = ["Phase", "Trajectory", "TrajectorySample"]
 
@@ -34,6 +45,15 @@ FloatArray = NDArray[np.float64]
 TIME_TOLERANCE = 1e-9
 #: Most joints a trajectory may have (arrays are (samples, dof)).
 MAX_DOF = 1000
+#: Highest sampling rate [Hz]: one sample per microsecond, the shortest duration
+#: :func:`optraj.validation.as_duration` accepts (the checker's bound too).
+MAX_RATE = 1e6
+#: Largest trajectory JSON read [bytes] (text or file): a 10,000-segment quintic of 7 joints
+#: takes about 10 MB; beyond this a file is not one of ours.
+MAX_JSON_BYTES = 64 * 2**20
+#: Deepest nesting of lists and objects in a file's metadata: ours are two levels deep
+#: (``problem_options`` with a list), and the exports recurse through them.
+MAX_METADATA_DEPTH = 32
 _FORMAT = "optraj.trajectory/1"
 
 
@@ -52,13 +72,14 @@ class Phase:
     t_end: float
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "t_start", float(self.t_start))
-        object.__setattr__(self, "t_end", float(self.t_end))
-        if not (math.isfinite(self.t_start) and math.isfinite(self.t_end)):
+        if not isinstance(self.name, str):
             raise InvalidInputError(
-                f"phase {self.name!r}: times must be finite, got [{self.t_start}, {self.t_end}]",
+                f"a phase name must be a str, got {type(self.name).__name__} {self.name!r}",
                 name="phases",
             )
+        for field in ("t_start", "t_end"):
+            value = as_number(getattr(self, field), f"phase {self.name!r} {field}", "s")
+            object.__setattr__(self, field, value)
         if self.t_end < self.t_start:
             raise InvalidInputError(
                 f"phase {self.name!r} ends at {self.t_end:.6g} s before it starts at "
@@ -128,9 +149,53 @@ def _validated(breakpoints: ArrayLike, coefficients: ArrayLike) -> tuple[FloatAr
             f"{np.array2string(knots, precision=6, threshold=8)}",
             name="breakpoints",
         )
+    as_number(knots[-1], "duration (last breakpoint)", "s", maximum=MAX_DURATION)
     for array in (knots, coeffs):
         array.setflags(write=False)
     return knots, coeffs
+
+
+def _short(value: object) -> str:
+    """A value's type and a short repr, for error messages."""
+    return f"{type(value).__name__} {reprlib.repr(value)}"
+
+
+def _is_collection(value: object) -> bool:
+    """Whether ``value`` holds items (a list, tuple, generator ...), not a str or a mapping."""
+    return isinstance(value, Iterable) and not isinstance(value, (str, bytes, Mapping))
+
+
+def _depth(value: object) -> int:
+    """How deeply lists, tuples and mappings nest in ``value`` (0 for a scalar).
+
+    Walked with a stack, not recursion, so that any depth is measured.
+    """
+    deepest = 0
+    stack = [(value, 0)]
+    while stack:
+        item, level = stack.pop()
+        if isinstance(item, Mapping):
+            children: Iterable[object] = item.values()
+        elif isinstance(item, (list, tuple)):
+            children = item
+        else:
+            continue
+        deepest = max(deepest, level + 1)
+        stack.extend((child, level + 1) for child in children)
+    return deepest
+
+
+def _writable(path: object) -> Path:
+    """``path`` as a Path, or a typed error for something that is not a file path."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise InvalidInputError(f"path must be a str or a Path, got {_short(path)}", name="path")
+    return Path(path)
+
+
+def _write_error(path: Path, exc: OSError) -> InvalidInputError:
+    """A typed error for a file that cannot be written (a directory, no permission, ...)."""
+    reason = exc.strerror or str(exc)
+    return InvalidInputError(f"cannot write {str(path)!r}: {reason}", name="path", value=path)
 
 
 def _jsonable(value: Any) -> Any:
@@ -212,15 +277,21 @@ class Trajectory:
             metadata: As for the constructor.
 
         Raises:
-            InvalidInputError: A duration that is not > 0, a dof < 1, or names or phases that
-                do not fit; later, a ``build`` result that does not fit.
+            InvalidInputError: A duration that is not in (0, MAX_DURATION] s, a dof outside
+                [1, MAX_DOF], a ``build`` that is not callable, or names, phases or metadata
+                that do not fit; later, a ``build`` result that does not fit.
         """
-        if not (isinstance(duration, (int, float)) and math.isfinite(duration) and duration > 0):
-            raise InvalidInputError(f"duration must be > 0 s, got {duration!r}", name="duration")
+        length = as_positive(duration, "duration", "s", maximum=MAX_DURATION)
+        if not callable(build):
+            raise InvalidInputError(
+                f"build must be a function returning (breakpoints, coefficients), got "
+                f"{type(build).__name__}",
+                name="build",
+            )
         traj = cls.__new__(cls)
         traj._build = build
         traj._pieces = None
-        traj._duration = float(duration)
+        traj._duration = length
         traj._describe(as_count(dof, "dof", 1, MAX_DOF), joint_names, phases, metadata)
         return traj
 
@@ -232,14 +303,33 @@ class Trajectory:
         metadata: Mapping[str, Any] | None,
     ) -> None:
         """Set the joint names, phases and metadata of a trajectory of n joints."""
-        names = tuple(joint_names) if joint_names is not None else tuple(f"q{j}" for j in range(n))
+        if joint_names is None:
+            names = tuple(f"q{j}" for j in range(n))
+        elif _is_collection(joint_names) and all(isinstance(name, str) for name in joint_names):
+            names = tuple(joint_names)
+        else:
+            raise InvalidInputError(
+                f"joint_names must be a sequence of {n} str, got {_short(joint_names)}",
+                name="joint_names",
+            )
         if len(names) != n:
             raise InvalidInputError(
                 f"joint_names must name the {n} joints, got {len(names)} names", name="joint_names"
             )
+        windows = tuple(phases) if _is_collection(phases) else None
+        if windows is None or not all(isinstance(phase, Phase) for phase in windows):
+            raise InvalidInputError(
+                f"phases must be a sequence of planners.Phase, got {_short(phases)}",
+                name="phases",
+            )
+        if metadata is not None and not isinstance(metadata, Mapping):
+            raise InvalidInputError(
+                f"metadata must be a mapping (dict) or None, got {_short(metadata)}",
+                name="metadata",
+            )
         self._dof = n
         self.joint_names: tuple[str, ...] = names
-        self.phases: tuple[Phase, ...] = tuple(phases)
+        self.phases: tuple[Phase, ...] = windows
         for phase in self.phases:
             if phase.t_start < -TIME_TOLERANCE or phase.t_end > self.duration + TIME_TOLERANCE:
                 raise InvalidInputError(
@@ -405,15 +495,30 @@ class Trajectory:
         """Evenly spaced times at ``rate`` [Hz] from 0 to the end, plus every breakpoint.
 
         Args:
-            rate: Sampling rate [Hz], > 0.
+            rate: Sampling rate [Hz], in (0, MAX_RATE].
             include_breakpoints: Also include every breakpoint (and the times just before
                 each, so that jumps are seen from both sides).
+
+        Raises:
+            InvalidInputError: A rate that is not a number in (0, MAX_RATE] Hz, or one whose
+                samples of every joint (times x joints) would be more than
+                :data:`optraj.validation.MAX_COUNT` values, the checker's rule too: the
+                samples of q, qd, qdd and jerk are then at most 320 MB.
         """
-        if not (math.isfinite(rate) and rate > 0.0):
-            raise InvalidInputError(f"rate must be > 0 Hz, got {rate!r}", name="rate")
-        count = max(math.ceil(self.duration * rate), 1)
+        hz = as_positive(rate, "rate", "Hz", maximum=MAX_RATE)
+        with_breakpoints = as_flag(include_breakpoints, "include_breakpoints")
+        count = max(math.ceil(self.duration * hz), 1)
+        if (count + 1) * self.dof > MAX_COUNT:
+            fits = (MAX_COUNT / self.dof - 1.0) / self.duration
+            raise InvalidInputError(
+                f"rate {hz:.6g} Hz over a {self.duration:.6g} s trajectory of {self.dof} joints "
+                f"needs {(count + 1) * self.dof:.3g} sampled values, more than MAX_COUNT = "
+                f"{MAX_COUNT:.3g}; give rate <= {fits:.6g} Hz",
+                name="rate",
+                value=rate,
+            )
         grid = np.linspace(0.0, self.duration, count + 1)
-        if include_breakpoints:
+        if with_breakpoints:
             inner = self._knots[1:-1]
             before = np.maximum(inner - 1e-9 * max(self.duration, 1.0), 0.0)
             grid = np.unique(np.concatenate([grid, self._knots, before]))
@@ -469,11 +574,14 @@ class Trajectory:
 
     @classmethod
     def constant(cls, q: ArrayLike, duration: float, **kwargs: Any) -> Trajectory:
-        """Stand still at ``q`` [rad or m] for ``duration`` [s]."""
+        """Stand still at ``q`` [rad or m] for ``duration`` [s], in (0, MAX_DURATION].
+
+        Not as_duration's microsecond floor: a hold has no derivatives to overflow, and
+        planners hold for waits as short as their round-off allows.
+        """
         value = as_vector(q, "q")
-        if not (math.isfinite(duration) and duration > 0.0):
-            raise InvalidInputError(f"duration must be > 0 s, got {duration!r}", name="duration")
-        return cls([0.0, duration], value[None, None, :], **kwargs)
+        length = as_positive(duration, "duration", "s", maximum=MAX_DURATION)
+        return cls([0.0, length], value[None, None, :], **kwargs)
 
     @classmethod
     def sequence(
@@ -491,8 +599,21 @@ class Trajectory:
             metadata: Metadata of the result (empty when None).
 
         Raises:
-            InvalidInputError: No pieces at all, or pieces of different joint counts.
+            InvalidInputError: Phases that are not ``(str, [Trajectory, ...])`` pairs, no
+                pieces at all, or pieces of different joint counts.
         """
+        if not isinstance(phases, (list, tuple)) or not all(
+            isinstance(group, (list, tuple))
+            and len(group) == 2
+            and isinstance(group[0], str)
+            and isinstance(group[1], (list, tuple))
+            and all(isinstance(piece, Trajectory) for piece in group[1])
+            for group in phases
+        ):
+            raise InvalidInputError(
+                f"phases must be (name, [Trajectory, ...]) pairs, got {_short(phases)}",
+                name="phases",
+            )
         parts = [piece for _, pieces in phases for piece in pieces]
         if not parts:
             raise InvalidInputError("a sequence needs at least one piece", name="phases")
@@ -519,6 +640,11 @@ class Trajectory:
         """
         pieces = (self, *others)
         for piece in others:
+            if not isinstance(piece, Trajectory):
+                raise InvalidInputError(
+                    f"then() joins planners.Trajectory objects, got {_short(piece)}",
+                    name="others",
+                )
             if piece.dof != self.dof:
                 raise InvalidInputError(
                     f"cannot join trajectories of {self.dof} and {piece.dof} joints",
@@ -583,7 +709,8 @@ class Trajectory:
         """Rebuild a trajectory from :meth:`to_dict` output.
 
         Raises:
-            InvalidInputError: Missing fields or another format.
+            InvalidInputError: Another format, or a missing or malformed field (each field
+                is checked as the constructor checks its argument).
         """
         if not isinstance(data, Mapping) or data.get("format") != _FORMAT:
             found = data.get("format") if isinstance(data, Mapping) else type(data).__name__
@@ -591,24 +718,51 @@ class Trajectory:
                 f"not an optraj trajectory: expected format {_FORMAT!r}, got {found!r}",
                 name="data",
             )
-        try:
-            return cls(
-                data["breakpoints"],
-                data["coefficients"],
-                joint_names=data.get("joint_names"),
-                phases=[Phase(p["name"], p["t_start"], p["t_end"]) for p in data["phases"]],
-                metadata=data.get("metadata", {}),
-            )
-        except (KeyError, TypeError) as exc:
+        missing = [key for key in ("breakpoints", "coefficients", "phases") if key not in data]
+        if missing:
             raise InvalidInputError(
-                f"trajectory data is missing or has a malformed field: {exc}", name="data"
-            ) from exc
+                f"trajectory data is missing or has a malformed field: no {', '.join(missing)}",
+                name="data",
+            )
+        rows = data["phases"]
+        if not isinstance(rows, list) or not all(
+            isinstance(row, Mapping) and {"name", "t_start", "t_end"} <= row.keys() for row in rows
+        ):
+            raise InvalidInputError(
+                "trajectory data is missing or has a malformed field: phases must be a list "
+                f"of {{name, t_start, t_end}} objects, got {_short(rows)}",
+                name="phases",
+            )
+        metadata = data.get("metadata", {})
+        if not isinstance(metadata, Mapping) or _depth(metadata) > MAX_METADATA_DEPTH:
+            raise InvalidInputError(
+                "trajectory data is missing or has a malformed field: metadata must be an "
+                f"object nested at most {MAX_METADATA_DEPTH} levels deep, got "
+                f"{_short(metadata)}",
+                name="metadata",
+            )
+        return cls(
+            data["breakpoints"],
+            data["coefficients"],
+            joint_names=data.get("joint_names"),
+            phases=[Phase(row["name"], row["t_start"], row["t_end"]) for row in rows],
+            metadata=metadata,
+        )
 
     def to_json(self, path: str | Path | None = None) -> str:
-        """The exact trajectory as JSON text; also written to ``path`` when given."""
+        """The exact trajectory as JSON text; also written to ``path`` when given.
+
+        Raises:
+            InvalidInputError: A path that is not a str or Path, or that cannot be written
+                (a directory, a missing folder, no permission).
+        """
         text = json.dumps(self.to_dict(), indent=1)
         if path is not None:
-            Path(path).write_text(text)
+            target = _writable(path)
+            try:
+                target.write_text(text)
+            except OSError as exc:
+                raise _write_error(target, exc) from exc
         return text
 
     @classmethod
@@ -616,31 +770,73 @@ class Trajectory:
         """Read a trajectory from JSON text or from a file path.
 
         Raises:
-            InvalidInputError: Not valid JSON or not an optraj trajectory.
+            InvalidInputError: No such file, one that cannot be read, text over
+                MAX_JSON_BYTES, not valid JSON (nested too deeply, a number too long) or not
+                an optraj trajectory.
         """
+        if not isinstance(source, (str, os.PathLike)):
+            raise InvalidInputError(
+                f"source must be JSON text or a file path, got {_short(source)}", name="source"
+            )
         text = str(source)
+        where = ""  # the file, for the messages
         if not text.lstrip().startswith("{"):
             path = Path(source)
+            where = f" in {str(path)!r}"
             if not path.is_file():
                 raise InvalidInputError(f"no trajectory file at {str(path)!r}", name="source")
-            text = path.read_text()
+            try:
+                size = path.stat().st_size
+                if size > MAX_JSON_BYTES:
+                    raise InvalidInputError(
+                        f"{str(path)!r} has {size} bytes, more than the {MAX_JSON_BYTES} bytes "
+                        "of any trajectory file",
+                        name="source",
+                    )
+                text = path.read_text()
+            except (OSError, UnicodeDecodeError) as exc:
+                reason = exc.strerror if isinstance(exc, OSError) else "not UTF-8 text"
+                raise InvalidInputError(
+                    f"cannot read {str(path)!r}: {reason}", name="source"
+                ) from exc
+        elif len(text) > MAX_JSON_BYTES:
+            raise InvalidInputError(
+                f"trajectory JSON has {len(text)} characters, more than the {MAX_JSON_BYTES} "
+                "of any trajectory file",
+                name="source",
+            )
         try:
             data = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise InvalidInputError(f"trajectory JSON is malformed: {exc}", name="source") from exc
+        except RecursionError as exc:
+            raise InvalidInputError(
+                f"trajectory JSON is malformed{where}: nested too deeply", name="source"
+            ) from exc
+        except ValueError as exc:  # JSONDecodeError, and integers of over 4300 digits
+            raise InvalidInputError(
+                f"trajectory JSON is malformed{where}: {exc}", name="source"
+            ) from exc
         return cls.from_dict(data)
 
     def to_csv(self, path: str | Path, rate: float = 1000.0) -> None:
-        """Write samples at ``rate`` [Hz]: columns t, q_<joint>, qd_<joint>, qdd_, jerk_."""
+        """Write samples at ``rate`` [Hz]: columns t, q_<joint>, qd_<joint>, qdd_, jerk_.
+
+        Raises:
+            InvalidInputError: A bad rate (see :meth:`times`), or a path that is not a str
+                or Path or cannot be written.
+        """
+        target = _writable(path)
         arrays = self.to_arrays(rate)
         header = ["t"] + [
             f"{prefix}_{name}" for prefix in ("q", "qd", "qdd", "jerk") for name in self.joint_names
         ]
         table = np.column_stack([arrays[key] for key in ("t", "q", "qd", "qdd", "jerk")])
-        with Path(path).open("w", newline="") as handle:
-            writer = csv.writer(handle)
-            writer.writerow(header)
-            writer.writerows(table.tolist())
+        try:
+            with target.open("w", newline="") as handle:
+                writer = csv.writer(handle)
+                writer.writerow(header)
+                writer.writerows(table.tolist())
+        except OSError as exc:
+            raise _write_error(target, exc) from exc
 
     def to_ros(self, rate: float | None = None) -> dict[str, Any]:
         """A dict shaped like ROS ``trajectory_msgs/JointTrajectory`` (no ROS needed).

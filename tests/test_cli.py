@@ -316,6 +316,18 @@ PLAN = ["plan", "sawyer", "--problem", "pool-shot", "--planner"]
         (["plan", "sawyer", "--problem", "pool-shot"],
          "optraj plan: error: the following arguments are required: --planner"),
         (["check", "missing.json"], "no trajectory file at 'missing.json'"),
+        ([*PLAN, "ruckig", "--limit-scale", "1e-300"],
+         "--limit-scale must be in [1e-06, 1], got 1e-300"),
+        (["plan", "sawyer", "--problem", "point-to-point", "--planner", "cubic", "--q-goal", "0",
+          "0", "0", "0", "0", "0", "0", "--duration", "1e200"],
+         "--duration must be <= 86400 s, got 1e+200 s"),  # was an OverflowError
+        (["plan", "sawyer", "--problem", "point-to-point", "--planner", "cubic", "--q-goal",
+          "nan", "0", "0", "0", "0", "0", "0"], "--q-goal must be finite"),
+        (["plan", "sawyer", "--problem", "point-to-point", "--planner", "cubic", "--q-goal",
+          "home", "0"], "--q-goal takes joint positions [rad or m], one per joint, or one pose"),
+        (["plan", "sawyer", "--problem", "point-to-point", "--planner", "cubic", "--q-goal",
+          "candle"], "--q-goal takes 7 joint positions [rad or m] or a pose name (home"),
+        (["check", "missing.json", "--rate", "1e9"], "--rate must be <= 1e+06 Hz, got 1e+09 Hz"),
     ],
 )  # fmt: skip
 def test_errors_exit_2_with_one_line(argv, expected, tmp_path, monkeypatch, capsys):
@@ -345,6 +357,72 @@ def test_check_of_a_bad_file_exits_2_with_one_line(text, expected, tmp_path, mon
     Path("bad.json").write_bytes(text.encode("utf-8", "surrogateescape"))
     assert main(["check", "bad.json"], out=io.StringIO()) == 2
     assert expected in _error_line(capsys)
+
+
+def _point_to_point_file(path: Path) -> planners.Trajectory:
+    """A small Sawyer move written to ``path`` as ``optraj plan`` writes it."""
+    robot = get_robot("sawyer")
+    goal = robot.home + 0.2
+    traj = planners.Quintic().plan(problems.PointToPoint(robot, robot.home, goal))
+    options = {"q_start": robot.home.tolist(), "q_goal": goal.tolist()}
+    optraj.cli.tag_trajectory(traj, "sawyer", "point-to-point", options)
+    traj.to_json(path)
+    return traj
+
+
+@pytest.mark.parametrize(
+    ("edit", "expected"),
+    [
+        # what json cannot read: nesting (a RecursionError) and long integers (a ValueError)
+        (lambda d: {**d, "metadata": {"x": "@"}}, "trajectory JSON is malformed in 'bad.json': "
+         "nested too deeply"),
+        # a 1e300 s trajectory (numpy's "Maximum allowed size exceeded" when sampled)
+        (lambda d: {**d, "breakpoints": [0.0, 1e300]}, "must be <= 86400 s, got 1e+300 s"),
+        # numbers in the recorded problem that are bools or strings
+        (lambda d: _with_options(d, duration=True), "--duration must be a numeric"),
+        (lambda d: _with_options(d, q_goal=[str(v) for v in d["metadata"]["problem_options"]
+                                            ["q_goal"]]), "--q-goal must be a numeric"),
+        (lambda d: _with_options(d, q_goal=[True] * 7), "--q-goal must be a numeric"),
+        (lambda d: _with_options(d, limit_scale="0.5"), "--limit-scale must be a numeric"),
+    ],
+)  # fmt: skip
+def test_check_of_a_malformed_or_oversized_file_exits_2_with_one_line(
+    edit, expected, tmp_path, monkeypatch, capsys
+):
+    monkeypatch.chdir(tmp_path)
+    _point_to_point_file(Path("good.json"))
+    data = edit(json.loads(Path("good.json").read_text()))
+    text = json.dumps(data).replace('"@"', "[" * 100_000 + "]" * 100_000)
+    Path("bad.json").write_text(text)
+    assert main(["check", "bad.json"], out=io.StringIO()) == 2
+    assert expected in _error_line(capsys)
+
+
+def _with_options(data: dict, **options) -> dict:
+    data["metadata"]["problem_options"].update(options)
+    return data
+
+
+def test_check_refuses_a_bad_rate_and_an_oversized_file(tmp_path, monkeypatch, capsys):
+    import planners.trajectory
+
+    monkeypatch.chdir(tmp_path)
+    _point_to_point_file(Path("t.json"))
+    assert main(["check", "t.json"], out=io.StringIO()) == 0
+    assert main(["check", "t.json", "--rate", "1e300"], out=io.StringIO()) == 2  # was a traceback
+    assert _error_line(capsys) == "optraj: error: --rate must be <= 1e+06 Hz, got 1e+300 Hz"
+    monkeypatch.setattr(planners.trajectory, "MAX_JSON_BYTES", 1000)
+    assert main(["check", "t.json"], out=io.StringIO()) == 2
+    assert "bytes, more than the 1000 bytes of any trajectory file" in _error_line(capsys)
+
+
+def test_an_os_error_in_a_command_exits_2_with_one_line(monkeypatch, capsys):
+    def denied(args, out):
+        raise PermissionError(13, "Permission denied", "/some/file")
+
+    monkeypatch.setattr(optraj.cli, "_cmd_robots", denied)
+    assert main(["robots"], out=io.StringIO()) == 2
+    assert _error_line(capsys) == "optraj: error: cannot use '/some/file': Permission denied"
 
 
 def test_check_of_bad_problem_metadata_exits_2(tmp_path, monkeypatch, capsys):

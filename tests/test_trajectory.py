@@ -240,3 +240,125 @@ def test_a_trajectory_pickled_in_the_former_layout_still_loads():
     restored.__setstate__(former)
     assert (restored.duration, restored.dof) == (eager.duration, 3)
     np.testing.assert_array_equal(restored.sample(t).qd, eager.sample(t).qd)
+
+
+# ------------------------------------------------------------- typed errors at every entry
+
+
+@pytest.mark.parametrize(
+    ("build", "match"),
+    [
+        (lambda: Trajectory([0.0, 1.0], [[[0.0]]], metadata=["ab"]), "metadata must be a mapping"),
+        (lambda: Trajectory([0.0, 1.0], [[[0.0]]], phases=5), "phases must be a sequence"),
+        (lambda: Trajectory([0.0, 1.0], [[[0.0]]], phases=[5]), "planners.Phase"),
+        (lambda: Trajectory([0.0, 1.0], [[[0.0]]], joint_names=5), "joint_names must be"),
+        (lambda: Trajectory([0.0, 1e300], [[[0.0]]]), r"<= 86400 s, got 1e\+300 s"),
+        (lambda: Phase("a", "0", "1"), "t_start must be a numeric"),
+        (lambda: Phase("a", False, True), "t_start must be a numeric"),
+        (lambda: Phase(3, 0.0, 1.0), "phase name must be a str"),
+        (lambda: Trajectory.constant([0.0], "2"), "duration must be a numeric"),
+        (lambda: Trajectory.constant([0.0], 1e300), r"duration must be <= 86400 s"),
+        (lambda: Trajectory.deferred(True, 1, lambda: None), "duration must be a numeric"),
+        (lambda: Trajectory.deferred(1e300, 1, lambda: None), "duration must be <= 86400 s"),
+        (lambda: Trajectory.deferred(1.0, 1, None), "build must be a function"),
+        (lambda: Trajectory.constant([0.0], 1.0).then(5), "joins planners.Trajectory"),
+        (lambda: Trajectory.sequence([("a", [5])]), r"\(name, \[Trajectory, ...\]\) pairs"),
+        (lambda: Trajectory.sequence(5), "pairs"),
+    ],
+)
+def test_malformed_arguments_are_typed_errors(build, match):
+    with pytest.raises(InvalidInputError, match=match):
+        build()
+
+
+@pytest.mark.parametrize(
+    ("rate", "match"),
+    [
+        ("1000", "rate must be a numeric"),
+        (True, "rate must be a numeric"),  # a bool is no rate (it sampled at 1 Hz)
+        (1e300, r"rate must be <= 1e\+06 Hz, got 1e\+300 Hz"),
+    ],
+)
+def test_a_rate_is_a_number_in_its_range(rate, match):
+    traj = Trajectory.constant([0.0], 1.0)
+    with pytest.raises(InvalidInputError, match=match):
+        traj.times(rate)
+    with pytest.raises(InvalidInputError, match=match):
+        traj.to_ros(rate)
+
+
+def test_a_sampling_grid_holds_at_most_max_count_values():
+    traj = Trajectory.constant(np.zeros(7), 2000.0)  # 2e6 + 1 samples of 7 joints at 1 kHz
+    with pytest.raises(InvalidInputError, match=r"1\.4e\+07 sampled values, more than MAX_COUNT"):
+        traj.times(1000.0)
+    with pytest.raises(InvalidInputError, match=r"give rate <= 714\.28\d+ Hz"):
+        traj.to_arrays(1000.0)
+    assert traj.times(700.0, include_breakpoints=False).size == 1_400_001
+
+
+def test_writing_to_a_path_that_cannot_be_written_is_a_typed_error(tmp_path):
+    traj = Trajectory.constant([0.0], 1.0)
+    with pytest.raises(InvalidInputError, match=r"cannot write .*: Is a directory"):
+        traj.to_csv(tmp_path, rate=10.0)
+    with pytest.raises(InvalidInputError, match=r"cannot write .*: Is a directory"):
+        traj.to_json(tmp_path)
+    with pytest.raises(InvalidInputError, match=r"cannot write .*no_such_folder"):
+        traj.to_json(tmp_path / "no_such_folder" / "t.json")
+    with pytest.raises(InvalidInputError, match="path must be a str or a Path"):
+        traj.to_csv(3)
+
+
+def _good_dict() -> dict:
+    return Trajectory.constant([0.0], 1.0, phases=[Phase("hold", 0.0, 1.0)]).to_dict()
+
+
+@pytest.mark.parametrize(
+    ("change", "match"),
+    [
+        ({"metadata": ["abc"]}, "metadata must be an object"),  # was dict()'s ValueError
+        ({"metadata": [1, 2]}, "metadata must be an object"),
+        ({"phases": 5}, "phases must be a list"),
+        ({"phases": [{"name": "a"}]}, "phases must be a list"),
+        ({"phases": [{"name": "a", "t_start": "0", "t_end": 1}]}, "t_start must be a numeric"),
+        ({"joint_names": 7}, "joint_names must be"),
+        ({"joint_names": [7]}, "joint_names must be"),
+        ({"breakpoints": [0, "1"]}, "breakpoints must be a numeric"),
+        ({"metadata": {"deep": json.loads("[" * 40 + "]" * 40)}}, "nested at most 32 levels"),
+    ],
+)
+def test_malformed_trajectory_data_is_a_typed_error(change, match):
+    data = {**_good_dict(), **change}
+    with pytest.raises(InvalidInputError, match=match):
+        Trajectory.from_dict(data)
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        ('{"a": ' + "[" * 100_000 + "]" * 100_000 + "}", "nested too deeply"),  # RecursionError
+        ('{"format": "optraj.trajectory/1", "breakpoints": [0, 1' + "0" * 5000 + "]}",
+         "4300 digits"),  # json's own ValueError for long integers
+    ],
+)  # fmt: skip
+def test_json_that_json_cannot_read_is_a_typed_error(text, match, tmp_path):
+    with pytest.raises(InvalidInputError, match=f"trajectory JSON is malformed: .*{match}"):
+        Trajectory.from_json(text)
+    path = tmp_path / "bad.json"
+    path.write_text(text)
+    with pytest.raises(InvalidInputError, match=f"malformed in '{path}': .*{match}"):
+        Trajectory.from_json(path)
+
+
+def test_oversized_json_is_refused_before_it_is_read(tmp_path, monkeypatch):
+    import planners.trajectory
+
+    text = _good_dict()
+    path = tmp_path / "t.json"
+    path.write_text(json.dumps(text))
+    monkeypatch.setattr(planners.trajectory, "MAX_JSON_BYTES", 100)
+    with pytest.raises(InvalidInputError, match=r"bytes, more than the 100 bytes"):
+        Trajectory.from_json(path)
+    with pytest.raises(InvalidInputError, match="more than the 100 of any"):
+        Trajectory.from_json(json.dumps(text))
+    with pytest.raises(InvalidInputError, match="JSON text or a file path"):
+        Trajectory.from_json(5)
