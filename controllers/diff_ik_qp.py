@@ -74,7 +74,8 @@ from controllers.qp_terms import (
     velocity_bounds,
 )
 from optraj.errors import InvalidInputError, UnknownNameError, UnsupportedModelError
-from optraj.validation import as_array, as_count, as_flag, as_fraction, as_positive
+from optraj.validation import as_array, as_count, as_flag, as_fraction, as_number, as_positive
+from problems.common import check_robot
 from robots import JointLimits, Robot
 
 __all__ = ["DiffIKQP"]
@@ -152,8 +153,8 @@ class DiffIKQP(Controller):
             handle.
 
     Raises:
-        InvalidInputError: A bad gain, weight, scale, tolerance or switch, or limits for
-            another joint count.
+        InvalidInputError: A robot that is not a robots.Robot, a bad gain, weight, scale,
+            tolerance, switch or constraints, or limits for another joint count.
         UnknownNameError: An unknown task or evaluation.
         CompilerError: ``evaluation="compiled"`` and the C code did not compile.
         UnsupportedModelError: ``evaluation="compiled"`` for a robot with joints
@@ -183,7 +184,7 @@ class DiffIKQP(Controller):
         posture_velocity: bool = True,
         feedforward: bool = True,
     ) -> None:
-        self.robot = robot
+        self.robot = check_robot(robot)
         self.pid = CartesianPID(kp, ki, kd, integral_limit, task)
         pair = as_array(weights, "weights", (2,))
         if np.any(pair < 0.0) or not np.any(pair > 0.0):
@@ -193,12 +194,7 @@ class DiffIKQP(Controller):
             )
         self.weights = (float(pair[0]), float(pair[1]))
         self.damping = as_positive(damping, "damping")
-        self.posture_weight = float(as_array(posture_weight, "posture_weight", ()))
-        if self.posture_weight < 0.0:
-            raise InvalidInputError(
-                f"posture_weight must be >= 0, got {self.posture_weight:.6g}",
-                name="posture_weight",
-            )
+        self.posture_weight = as_number(posture_weight, "posture_weight", minimum=0.0)
         self.posture_gain = as_positive(posture_gain, "posture_gain", "1/s")
         self.posture_velocity = as_flag(posture_velocity, "posture_velocity")
         self.feedforward = as_flag(feedforward, "feedforward")
@@ -214,6 +210,12 @@ class DiffIKQP(Controller):
             )
         self.velocity_scale = as_fraction(velocity_scale, "velocity_scale")
         self.position_gain = as_fraction(position_gain, "position_gain")
+        if not isinstance(constraints, (list, tuple)):
+            raise InvalidInputError(
+                f"constraints must be a list or tuple of controllers.Constraint, got "
+                f"{type(constraints).__name__}",
+                name="constraints",
+            )
         self.constraints = tuple(_checked_rows(c, robot.dof) for c in constraints)
         self.tolerance = as_positive(tolerance, "tolerance")
         self.max_iterations = as_count(max_iterations, "max_iterations", minimum=1)

@@ -15,6 +15,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from controllers.controller import Command, Controller, Reference, State, as_gains
 from optraj.validation import as_flag
+from problems.common import check_robot
 from robots import Robot
 
 __all__ = ["JointPD"]
@@ -33,8 +34,8 @@ class JointPD(Controller):
             (``reference.tau``); False: ``Command.tau`` is None.
 
     Raises:
-        InvalidInputError: A negative gain or one of the wrong size, or a switch that is not
-            a bool.
+        InvalidInputError: A robot that is not a robots.Robot, a negative gain or one of the
+            wrong size, or a switch that is not a bool.
     """
 
     def __init__(
@@ -44,7 +45,7 @@ class JointPD(Controller):
         kd: ArrayLike = 0.0,
         feedforward: bool = True,
     ) -> None:
-        self.robot = robot
+        self.robot = check_robot(robot)
         self.kp = as_gains(kp, "kp", robot.dof, unit="[1/s]")
         self.kd = as_gains(kd, "kd", robot.dof, unit="[-]")
         self.feedforward = as_flag(feedforward, "feedforward")

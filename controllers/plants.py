@@ -39,7 +39,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
-from optraj.validation import as_array, as_flag, as_positive, as_vector
+from optraj.validation import as_array, as_flag, as_number, as_positive, as_vector
 from robots import Robot
 
 __all__ = [
@@ -231,14 +231,7 @@ class KinematicPlant(Plant):
             InvalidInputError: ``time_constant`` negative or not finite.
         """
         super().__init__(robot)
-        value = float(as_array(time_constant, "time_constant", ()))
-        if value < 0.0:
-            raise InvalidInputError(
-                f"time_constant must be >= 0 s, got {value:.6g} s",
-                name="time_constant",
-                value=time_constant,
-            )
-        self.time_constant = value
+        self.time_constant = as_number(time_constant, "time_constant", "s", minimum=0.0)
 
     @property
     def name(self) -> str:

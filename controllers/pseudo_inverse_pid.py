@@ -20,8 +20,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from controllers.cartesian_pid import CartesianPID, tool_kinematics
 from controllers.controller import Command, Controller, Reference, State, cross3
-from optraj.errors import InvalidInputError
-from optraj.validation import as_array, as_flag
+from optraj.validation import as_flag, as_number
+from problems.common import check_robot
 from robots import Robot
 
 __all__ = ["PseudoInversePID"]
@@ -46,7 +46,8 @@ class PseudoInversePID(Controller):
             (``reference.tau``); False: ``Command.tau`` is None.
 
     Raises:
-        InvalidInputError: A negative gain or damping, or a switch that is not a bool.
+        InvalidInputError: A robot that is not a robots.Robot, a negative gain or damping, or
+            a switch that is not a bool.
         UnknownNameError: An unknown task.
     """
 
@@ -61,11 +62,9 @@ class PseudoInversePID(Controller):
         task: Literal["pose", "axis"] = "pose",
         feedforward: bool = True,
     ) -> None:
-        self.robot = robot
+        self.robot = check_robot(robot)
         self.pid = CartesianPID(kp, ki, kd, integral_limit, task)
-        self.damping = float(as_array(damping, "damping", ()))
-        if self.damping < 0.0:
-            raise InvalidInputError(f"damping must be >= 0, got {self.damping:.6g}", name="damping")
+        self.damping = as_number(damping, "damping", minimum=0.0)
         self.feedforward = as_flag(feedforward, "feedforward")
 
     @property

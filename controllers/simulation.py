@@ -30,8 +30,16 @@ from controllers.controller import Controller, References, State, sample_referen
 from controllers.metrics import Metrics, tracking_metrics
 from controllers.plants import DynamicPlant, KinematicPlant, Plant
 from optraj.errors import InvalidInputError, SolverError, UnknownNameError
-from optraj.validation import as_array, as_count, as_positive, as_vector
+from optraj.validation import (
+    MAX_DURATION,
+    as_count,
+    as_duration,
+    as_flag,
+    as_number,
+    as_vector,
+)
 from planners.trajectory import Trajectory
+from problems.common import check_robot
 from robots import Robot
 
 __all__ = ["PLANTS", "Impulse", "Noise", "Result", "simulate"]
@@ -42,6 +50,9 @@ FloatArray = NDArray[np.float64]
 PLANTS: tuple[str, ...] = ("dynamic", "kinematic")
 #: Runs longer than this many steps show a progress bar when stderr is a terminal.
 PROGRESS_STEPS = 20_000
+#: Most control steps one run may take: 1000 s at 1 kHz, whose time series (states,
+#: commands, references and tool poses of 7 joints, about 1 kB a step) take about 1 GB.
+MAX_STEPS = 1_000_000
 
 
 @dataclass(frozen=True)
@@ -59,12 +70,9 @@ class Noise:
     seed: int = 0
 
     def __post_init__(self) -> None:
-        for name in ("position", "velocity"):
-            value = float(as_array(getattr(self, name), name, ()))
-            if value < 0.0:
-                raise InvalidInputError(
-                    f"noise {name} standard deviation must be >= 0, got {value:.6g}", name=name
-                )
+        for name, unit in (("position", "rad or m"), ("velocity", "rad/s or m/s")):
+            label = f"noise {name} standard deviation"
+            value = as_number(getattr(self, name), label, unit, minimum=0.0)
             object.__setattr__(self, name, value)
         as_count(self.seed, "seed", maximum=None)
 
@@ -84,14 +92,12 @@ class Impulse:
     duration: float = 0.01
 
     def __post_init__(self) -> None:
-        start = float(as_array(self.time, "time", ()))
-        if start < 0.0:
-            raise InvalidInputError(f"impulse time must be >= 0 s, got {start:.6g} s", name="time")
+        start = as_number(self.time, "impulse time", "s", minimum=0.0, maximum=MAX_DURATION)
         object.__setattr__(self, "time", start)
         force = as_vector(self.force, "force", 3)
         force.setflags(write=False)
         object.__setattr__(self, "force", force)
-        object.__setattr__(self, "duration", as_positive(self.duration, "duration", "s"))
+        object.__setattr__(self, "duration", as_duration(self.duration, "impulse duration"))
 
     def force_during(self, t0: float, t1: float) -> FloatArray | None:
         """The mean force over the step ``[t0, t1)`` [N], or None when it does not act."""
@@ -262,14 +268,14 @@ def simulate(
         robot: The robot (the plan's and the controller's).
         trajectory: The plan; sampled at every control time with its tool pose and twist.
         controller: The controller; it is reset at the start.
-        dt: Control period [s], > 0.
+        dt: Control period [s], in [MIN_DURATION, MAX_DURATION] (1 us to a day).
         plant: ``"dynamic"``, ``"kinematic"`` or a :class:`~controllers.plants.Plant`.
         noise: Measurement noise; none when None.
-        latency: Steps between a command and its arrival at the plant, >= 0; the plant
-            keeps the start velocity until the first command arrives.
+        latency: Steps between a command and its arrival at the plant, in [0, MAX_STEPS];
+            the plant keeps the start velocity until the first command arrives.
         disturbance: A force on the tool for a while; none when None.
-        settle: Time to run after the plan ends [s], >= 0; the reference is then the plan's
-            final pose at rest.
+        settle: Time to run after the plan ends [s], in [0, MAX_DURATION]; the reference is
+            then the plan's final pose at rest.
         q_start: Start configuration [rad or m]; the plan's start when None (an offset
             shows how the controller closes an initial error).
         progress: Show a progress bar on stderr; by default only for runs of more than
@@ -279,19 +285,19 @@ def simulate(
         The :class:`Result`, with time series and :class:`~controllers.metrics.Metrics`.
 
     Raises:
-        InvalidInputError: Bad dt, latency, settle, start, noise, disturbance or progress, a
-            plan that is not a Trajectory, or a plan or controller for another robot (or
-            another model of it).
+        InvalidInputError: A robot that is not a robots.Robot; bad dt, latency, settle,
+            start, noise, disturbance or progress; a run of more than MAX_STEPS steps; a plan
+            that is not a Trajectory, or a plan or controller for another robot (or another
+            model of it).
         JointLimitError: ``q_start`` beyond a position limit.
         UnknownNameError: An unknown plant name.
         SolverError: The controller returned a joint velocity or feed-forward torque that is
             not a finite (n,) vector.
     """
-    step = as_positive(dt, "dt", "s")
-    delay = as_count(latency, "latency")
-    extra = float(as_array(settle, "settle", ()))
-    if extra < 0.0:
-        raise InvalidInputError(f"settle must be >= 0 s, got {extra:.6g} s", name="settle")
+    check_robot(robot)
+    step = as_duration(dt, "dt")
+    delay = as_count(latency, "latency", maximum=MAX_STEPS)
+    extra = as_number(settle, "settle", "s", minimum=0.0, maximum=MAX_DURATION)
     for value, kind, name in ((noise, Noise, "noise"), (disturbance, Impulse, "disturbance")):
         if value is not None and not isinstance(value, kind):
             raise InvalidInputError(
@@ -320,13 +326,19 @@ def simulate(
             f"({robot.dof} joints){other}; build the controller with the simulated robot",
             name="controller",
         )
-    if progress is not None and not isinstance(progress, bool):
-        raise InvalidInputError(
-            f"progress must be True, False or None, got {progress!r}", name="progress"
-        )
-    model = _plant(robot, plant)
+    if progress is not None:
+        as_flag(progress, "progress")
     end = trajectory.duration
     count = max(math.ceil((end + extra) / step - 1e-9), 1)
+    if count > MAX_STEPS:
+        raise InvalidInputError(
+            f"a run of {end + extra:.6g} s (plan and settle) at dt = {step:.6g} s takes {count} "
+            f"steps, more than {MAX_STEPS}; use dt >= {(end + extra) / MAX_STEPS:.3g} s or a "
+            "shorter settle",
+            name="dt",
+            value=dt,
+        )
+    model = _plant(robot, plant)
     t = np.arange(count + 1) * step
     references = _held_at_rest(sample_references(robot, trajectory, np.minimum(t, end)), t, end)
     n = robot.dof

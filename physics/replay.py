@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
-from optraj.validation import as_positive, as_vector
+from optraj.validation import as_number, as_positive, as_vector
 from physics.contact_watch import ContactWatch
 from physics.scene import StrikeScene, World
 from planners.trajectory import Trajectory
@@ -35,6 +35,13 @@ FloatArray = NDArray[np.float64]
 RUN_UP_TIME = 5e-3
 #: Time after the contact ends that the ball is still followed [s].
 AFTER = 2e-3
+#: Fastest tool speed thrown [m/s]: ten times the fastest strike the shipped arms plan
+#: (a few m/s); far beyond it the run-up starts kilometres from the table.
+MAX_SPEED = 100.0
+#: Longest run-up and settle [s]: a second of run-up crosses any table at a strike's speed,
+#: and physics.outcome follows the ball to rest itself.
+MAX_RUN_UP = 1.0
+MAX_SETTLE = 10.0
 
 
 def straight_cue(
@@ -55,10 +62,10 @@ def straight_cue(
     Args:
         scene: The world (its kinematic version is used).
         direction: Direction of motion, shape (3,) (normalised here).
-        speed: [m/s], > 0.
+        speed: [m/s], in (0, MAX_SPEED].
         tool_mass: Mass of the free tool [kg]; the scene's kinematic tool mass when None.
         offset: Shift of the tool's path from the ball centre [m], shape (3,).
-        run_up_time: How long before contact it starts [s], > 0.
+        run_up_time: How long before contact it starts [s], in (0, MAX_RUN_UP].
 
     Raises:
         InvalidInputError: Bad direction, speed, mass or offset.
@@ -68,9 +75,9 @@ def straight_cue(
     if norm < 1e-12:
         raise InvalidInputError("direction must not be zero", name="direction")
     d = d / norm
-    v = as_positive(speed, "speed", "m/s")
+    v = as_positive(speed, "speed", "m/s", maximum=MAX_SPEED)
     shift = as_vector(offset, "offset", 3)
-    lead = as_positive(run_up_time, "run_up_time", "s")
+    lead = as_positive(run_up_time, "run_up_time", "s", maximum=MAX_RUN_UP)
     kinematic = scene.as_kinematic(scene.tool_mass if tool_mass is None else tool_mass)
     world = kinematic.build()
     data = mujoco.MjData(world.model)
@@ -95,11 +102,12 @@ def replay(scene: StrikeScene, trajectory: Trajectory, *, settle: float = 0.05) 
     Args:
         scene: The world (its kinematic version is used).
         trajectory: A plan for the scene's robot.
-        settle: Time after the plan's end that the ball is followed [s], >= 0.
+        settle: Time after the plan's end that the ball is followed [s], in [0, MAX_SETTLE].
 
     Raises:
-        InvalidInputError: A trajectory for another joint count.
+        InvalidInputError: A bad settle, or a trajectory for another joint count.
     """
+    settle = as_number(settle, "settle", "s", minimum=0.0, maximum=MAX_SETTLE)
     if not isinstance(trajectory, Trajectory):
         raise InvalidInputError(
             f"trajectory must be a planners.Trajectory, got {type(trajectory).__name__}",

@@ -20,7 +20,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, UnreachableError
-from optraj.validation import as_array, as_count, as_transform, as_vector
+from optraj.validation import as_count, as_number, as_positive, as_transform, as_vector
 from robots.robot import Robot
 
 __all__ = ["IKSolution", "LocalIK", "solve_ik"]
@@ -32,6 +32,9 @@ _MIN_DAMPING = 1e-12
 _MAX_DAMPING = 1e8
 #: Loosest convergence tolerance accepted [m or rad].
 _MAX_TOLERANCE = 1e-3
+#: Farthest target from the base [m]: no arm reaches a kilometre, and far beyond it the
+#: squared residuals overflow (near 1e154 m).
+MAX_TARGET_DISTANCE = 1e3
 #: Position error at which the position-first stage of a random restart hands over [m].
 _LOCATE_TOLERANCE = 1e-6
 #: With ``abandon_stalled``, a random restart is given up when its error (residual norm),
@@ -382,7 +385,7 @@ class LocalIK:
             raise InvalidInputError(
                 f"robot must be a robots.Robot, got {type(robot).__name__}", name="robot"
             )
-        target = as_vector(position, "position", 3)
+        target = _target_position(position, "position")
         direction = None if axis is None else _unit_axis(axis)
         self.tolerance = _checked_tolerance(tolerance)
         self.max_iterations = as_count(max_iterations, "max_iterations", 1)
@@ -411,13 +414,20 @@ def _unit_axis(axis: ArrayLike) -> FloatArray:
 
 def _checked_tolerance(tolerance: float) -> float:
     """The convergence tolerance as a float in (0, _MAX_TOLERANCE] [m or rad]."""
-    tol = float(as_array(tolerance, "tolerance", ()))
-    if not 0.0 < tol <= _MAX_TOLERANCE:
-        raise InvalidInputError(
-            f"tolerance must be in (0, {_MAX_TOLERANCE:g}] m or rad, got {tol:.3g}",
-            name="tolerance",
+    return as_positive(tolerance, "tolerance", "m or rad", maximum=_MAX_TOLERANCE)
+
+
+def _target_position(value: ArrayLike, name: str) -> FloatArray:
+    """A target position [m], shape (3,), within MAX_TARGET_DISTANCE of the base."""
+    position = as_vector(value, name, 3)
+    for axis, coordinate in zip("xyz", position, strict=True):
+        as_number(
+            abs(coordinate),
+            f"|{name} {axis}|",
+            "m",
+            maximum=MAX_TARGET_DISTANCE,
         )
-    return tol
+    return position
 
 
 def solve_ik(
@@ -490,7 +500,7 @@ def solve_ik(
     position_only = shape == (3,)
     direction = None
     if position_only:
-        position, rotation = as_vector(target, "target", 3), None
+        position, rotation = _target_position(target, "target"), None
         if axis is not None:
             direction = _unit_axis(axis)
     else:
@@ -500,17 +510,13 @@ def solve_ik(
                 name="axis",
             )
         transform = as_transform(target, "target")
-        position, rotation = transform[:3, 3].copy(), transform[:3, :3].copy()
+        position, rotation = _target_position(transform[:3, 3], "target"), transform[:3, :3].copy()
     min_solutions = as_count(min_solutions, "min_solutions", 1)
     restarts = as_count(restarts, "restarts", 0)
     max_iterations = as_count(max_iterations, "max_iterations", 1)
     tol = _checked_tolerance(tolerance)
-    if not isinstance(seed, np.random.Generator) and (
-        isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0
-    ):
-        raise InvalidInputError(
-            f"seed must be an integer >= 0 or a numpy Generator, got {seed!r}", name="seed"
-        )
+    if not isinstance(seed, np.random.Generator):
+        as_count(seed, "seed (an integer >= 0 or a numpy Generator)", maximum=None)
     problem = _PoseError(robot, robot.frame_id(frame), position, rotation, direction)
     rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
     reference = robot.home if q_near is None else as_vector(q_near, "q_near", robot.dof)

@@ -19,8 +19,8 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from optraj.errors import InvalidInputError, MissingDependencyError, UnknownNameError
-from optraj.validation import as_array, as_positive
+from optraj.errors import MissingDependencyError, UnknownNameError
+from optraj.validation import as_number, as_positive
 from robots.limits import JointLimits
 from robots.robot import Robot
 
@@ -156,20 +156,8 @@ def _sawyer(cue_length: float = SAWYER_CUE_LENGTH, cue_mass: float = SAWYER_CUE_
         cue_mass: Mass of that cue section [kg], >= 0, a uniform rod from the flange to the
             tip; it is part of the model's dynamics (torques, the plan's feed-forward).
     """
-    length = as_positive(cue_length, "cue_length", "m")
-    if length > SAWYER_MAX_CUE_LENGTH:
-        raise InvalidInputError(
-            f"cue_length must be <= {SAWYER_MAX_CUE_LENGTH} m, got {length:.6g} m",
-            name="cue_length",
-            value=cue_length,
-        )
-    mass = float(as_array(cue_mass, "cue_mass", ()))
-    if mass < 0.0 or mass > SAWYER_MAX_CUE_MASS:
-        raise InvalidInputError(
-            f"cue_mass must lie in [0, {SAWYER_MAX_CUE_MASS}] kg, got {mass:.6g} kg",
-            name="cue_mass",
-            value=cue_mass,
-        )
+    length = as_positive(cue_length, "cue_length", "m", maximum=SAWYER_MAX_CUE_LENGTH)
+    mass = as_number(cue_mass, "cue_mass", "kg", minimum=0.0, maximum=SAWYER_MAX_CUE_MASS)
     model = urdf_model("sawyer")
     _add_tool_frame(model, "cue_tip", "right_hand", pin.SE3(np.eye(3), np.array([0, 0, length])))
     if mass > 0.0:

@@ -224,3 +224,13 @@ def test_restarts_in_batches_find_the_solutions_found_one_by_one(monkeypatch):
     one_by_one = solve_ik(robot, T[:3, 3], **kwargs)
     assert batched.attempts == one_by_one.attempts
     np.testing.assert_allclose(batched.solutions, one_by_one.solutions, rtol=0, atol=1e-9)
+
+
+def test_a_target_beyond_any_reach_is_refused_before_the_residuals_overflow():
+    robot = get_robot("sawyer")
+    with pytest.raises(InvalidInputError, match=r"\|target x\| must be <= 1000 m, got 1e\+308 m"):
+        solve_ik(robot, [1e308, 0.0, 0.0])  # was an overflow warning, then UnreachableError
+    with pytest.raises(InvalidInputError, match=r"\|position z\| must be <= 1000 m"):
+        LocalIK(robot, [0.0, 0.0, -2e3])
+    with pytest.raises(InvalidInputError, match="seed"):
+        solve_ik(robot, [0.5, 0.2, 0.3], seed=True)

@@ -92,3 +92,8 @@ def test_gain_errors():
         JointPD(robot, kp=np.inf)
     with pytest.raises(InvalidInputError, match=r"kp must have shape"):
         JointPD(robot, kp=np.ones((7, 1)))
+
+
+def test_a_robot_that_is_not_a_robot_is_refused():
+    with pytest.raises(InvalidInputError, match=r"robot must be a robots\.Robot"):
+        JointPD("sawyer")  # was an AttributeError on .dof

@@ -215,3 +215,10 @@ def test_the_command_carries_the_plans_feed_forward_torque(task):
     np.testing.assert_array_equal(with_torque.qd, without.qd)  # the velocity is the same
     unknown = PseudoInversePID(robot, task=task).step(_state(q), reference._replace(tau=None), DT)
     assert unknown.tau is None
+
+
+def test_a_robot_that_is_not_a_robot_or_a_string_damping_is_refused():
+    with pytest.raises(InvalidInputError, match=r"robot must be a robots\.Robot"):
+        PseudoInversePID(None)  # was accepted, then an AttributeError at the first step
+    with pytest.raises(InvalidInputError, match="damping must be a numeric"):
+        PseudoInversePID(get_robot("sawyer"), damping="0.1")

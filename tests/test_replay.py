@@ -85,3 +85,19 @@ def test_straight_cue_checks_its_input(scene):
         physics.straight_cue(scene, (0.0, 0.0, 0.0), 1.0)
     with pytest.raises(InvalidInputError, match="speed"):
         physics.straight_cue(scene, (1.0, 0.0, 0.0), -1.0)
+
+
+@pytest.mark.parametrize(
+    ("call", "match"),
+    [
+        (lambda scene, shot: physics.replay(scene, None, settle="0.1"), "settle must be a numeric"),
+        (lambda scene, shot: physics.replay(scene, None, settle=1e300), r"settle must be <= 10 s"),
+        (lambda scene, shot: physics.straight_cue(scene, shot.direction, 1e308),
+         r"speed must be <= 100 m/s"),
+        (lambda scene, shot: physics.straight_cue(scene, shot.direction, 1.0, run_up_time=1e300),
+         r"run_up_time must be <= 1 s"),
+    ],
+)  # fmt: skip
+def test_extreme_times_and_speeds_are_refused(shot, scene, call, match):
+    with pytest.raises(InvalidInputError, match=match):
+        call(scene, shot)

@@ -72,6 +72,10 @@ def test_model_error_scales_the_links_and_adds_the_payload(sawyer):
         ({"step": 0.0}, "step"),
         ({"fine_step": 1e-3}, "fine_step"),
         ({"kinematic": "yes"}, "kinematic"),
+        # a step that MuJoCo would take forever with, or that misses the 2 ms contact
+        ({"step": 1e-300, "fine_step": 1e-300}, r"step must be >= 1e-07 s, got 1e-300 s"),
+        ({"step": 0.01}, r"step must be <= 0\.001 s, got 0\.01 s"),
+        ({"payload": True}, "payload must be a numeric"),
     ],
 )
 def test_bad_scene_options_are_typed_errors(sawyer, options, match):

@@ -264,7 +264,7 @@ def test_progress_bar_is_drawn_on_request(shot, nominal, monkeypatch):
 def test_bad_arguments_are_refused(shot, nominal):
     robot = shot.robot
     pd = controllers.JointPD(robot)
-    with pytest.raises(InvalidInputError, match="dt must be > 0"):
+    with pytest.raises(InvalidInputError, match="dt must be >= 1e-06 s"):
         simulate(robot, nominal, pd, dt=0.0)
     with pytest.raises(InvalidInputError, match="latency"):
         simulate(robot, nominal, pd, latency=-1)
@@ -282,6 +282,44 @@ def test_bad_arguments_are_refused(shot, nominal):
         Noise(position=-1.0)
     with pytest.raises(InvalidInputError, match="force"):
         Impulse(time=0.1, force=[1.0, 2.0])
+
+
+@pytest.mark.parametrize(
+    ("options", "match"),
+    [
+        ({"dt": 1e-300}, r"dt must be >= 1e-06 s, got 1e-300 s"),  # was a 1e300-step array
+        ({"dt": True}, "dt must be a numeric"),
+        ({"settle": 1e300}, r"settle must be <= 86400 s"),
+        ({"settle": "0.1"}, "settle must be a numeric"),
+        ({"dt": 1e-6, "settle": 10.0}, r"more than 1000000; use dt >= 1\.\d+e-05 s"),
+        ({"latency": 10**7}, "latency must be an integer <= 1000000"),
+        ({"progress": "yes"}, "progress must be True or False"),
+    ],
+)
+def test_bad_numbers_are_refused_before_anything_is_allocated(shot, nominal, options, match):
+    robot = shot.robot
+    with pytest.raises(InvalidInputError, match=match):
+        simulate(robot, nominal, controllers.JointPD(robot), **options)
+
+
+def test_a_robot_that_is_not_a_robot_is_refused(shot, nominal):
+    pd = controllers.JointPD(shot.robot)
+    with pytest.raises(InvalidInputError, match=r"robot must be a robots\.Robot"):
+        simulate("sawyer", nominal, pd)  # was an AttributeError on .fingerprint
+
+
+@pytest.mark.parametrize(
+    ("build", "match"),
+    [
+        (lambda: Noise(position="1e-4"), "noise position standard deviation must be a numeric"),
+        (lambda: Noise(velocity=True), "noise velocity standard deviation must be a numeric"),
+        (lambda: Impulse(time=0.1, force=[1.0, 0.0, 0.0], duration=1e300), "<= 86400 s"),
+        (lambda: Impulse(time=1e300, force=[1.0, 0.0, 0.0]), "impulse time must be <= 86400 s"),
+    ],
+)
+def test_noise_and_impulse_numbers_are_checked(build, match):
+    with pytest.raises(InvalidInputError, match=match):
+        build()
 
 
 def test_after_the_plan_the_reference_rests_at_its_final_pose(shot, nominal):
