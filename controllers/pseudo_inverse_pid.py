@@ -20,6 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from controllers.cartesian_pid import CartesianPID, tool_kinematics
 from controllers.controller import Command, Controller, Reference, State, cross3
+from optraj.errors import InvalidInputError
 from optraj.validation import as_flag, as_number
 from problems.common import check_robot
 from robots import Robot
@@ -27,6 +28,13 @@ from robots import Robot
 __all__ = ["PseudoInversePID"]
 
 FloatArray = NDArray[np.float64]
+
+#: Range of a non-zero damping [-]. Below 1e-6 the added ``lambda^2 = 1e-12`` is lost in
+#: round-off against ``J J^T`` (entries of order 1 m^2), so a rank-deficient task is solved
+#: as singular; above 1e3 ``lambda^2`` outweighs ``J J^T`` a million-fold and the command is
+#: all but zero. 0 is the plain pseudo-inverse, which handles rank deficiency by its SVD.
+MIN_DAMPING = 1e-6
+MAX_DAMPING = 1e3
 
 
 class PseudoInversePID(Controller):
@@ -38,16 +46,16 @@ class PseudoInversePID(Controller):
         ki: Integral gain [1/s^2], same forms.
         kd: Derivative gain on the twist error [-], same forms.
         integral_limit: Anti-windup clamp of the integrated error [m s, rad s].
-        damping: Damping ``lambda`` of the damped least-squares inverse [-]; 0 is the plain
-            pseudo-inverse of the seed.
+        damping: Damping ``lambda`` of the damped least-squares inverse [-], 0 or in
+            [MIN_DAMPING, MAX_DAMPING]; 0 is the plain pseudo-inverse of the seed.
         task: ``"pose"`` (6-D) or ``"axis"`` (5-D: roll about the tool z axis is free; the
             Jacobian's angular rows are projected on the plane normal to the axis).
         feedforward: Whether the command carries the plan's feed-forward torque
             (``reference.tau``); False: ``Command.tau`` is None.
 
     Raises:
-        InvalidInputError: A robot that is not a robots.Robot, a negative gain or damping, or
-            a switch that is not a bool.
+        InvalidInputError: A robot that is not a robots.Robot, a negative gain, a damping
+            outside 0 or [MIN_DAMPING, MAX_DAMPING], or a switch that is not a bool.
         UnknownNameError: An unknown task.
     """
 
@@ -64,7 +72,14 @@ class PseudoInversePID(Controller):
     ) -> None:
         self.robot = check_robot(robot)
         self.pid = CartesianPID(kp, ki, kd, integral_limit, task)
-        self.damping = as_number(damping, "damping", minimum=0.0)
+        self.damping = as_number(damping, "damping", minimum=0.0, maximum=MAX_DAMPING)
+        if 0.0 < self.damping < MIN_DAMPING:
+            raise InvalidInputError(
+                f"damping must be 0 (the plain pseudo-inverse) or >= {MIN_DAMPING:g}, got "
+                f"{self.damping:.6g}",
+                name="damping",
+                value=damping,
+            )
         self.feedforward = as_flag(feedforward, "feedforward")
 
     @property

@@ -217,6 +217,20 @@ def test_the_command_carries_the_plans_feed_forward_torque(task):
     assert unknown.tau is None
 
 
+@pytest.mark.parametrize(
+    ("damping", "match"),
+    [
+        (9.7e-107, r"damping must be 0 \(the plain pseudo-inverse\) or >= 1e-06, got 9\.7e-107"),
+        (1e308, r"damping must be <= 1000, got 1e\+308"),
+    ],
+)
+def test_a_damping_lost_in_round_off_or_overflowing_is_refused(damping, match):
+    # 9.7e-107 made the inverse of a rank-deficient axis task singular (a numpy LinAlgError
+    # at the first step), 1e308 overflowed lambda^2.
+    with pytest.raises(InvalidInputError, match=match):
+        PseudoInversePID(get_robot("paddle4"), task="axis", damping=damping)
+
+
 def test_a_robot_that_is_not_a_robot_or_a_string_damping_is_refused():
     with pytest.raises(InvalidInputError, match=r"robot must be a robots\.Robot"):
         PseudoInversePID(None)  # was accepted, then an AttributeError at the first step
