@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, JointLimitError, UnknownNameError
-from optraj.validation import as_array, as_batch, as_count, as_fraction, as_vector
+from optraj.validation import as_batch, as_count, as_fraction, as_number, as_vector
 
 __all__ = ["JointLimits"]
 
@@ -205,11 +205,18 @@ class JointLimits:
             quantities: Which of ``velocity``, ``acceleration``, ``jerk``, ``effort``.
 
         Raises:
-            InvalidInputError: A factor outside [1e-6, 1].
+            InvalidInputError: A factor outside [1e-6, 1], or quantities that are not a
+                tuple or list of names.
             UnknownNameError: A quantity that is not one of the four.
         """
         number = as_fraction(factor, "factor")
         symmetric = ("velocity", "acceleration", "jerk", "effort")
+        if not isinstance(quantities, (list, tuple)):
+            raise InvalidInputError(
+                f"quantities must be a tuple of names from {', '.join(symmetric)}, e.g. "
+                f"('velocity',), got {type(quantities).__name__} {quantities!r}",
+                name="quantities",
+            )
         for name in quantities:
             if name not in symmetric:
                 raise UnknownNameError("scalable limit", str(name), symmetric)
@@ -234,7 +241,4 @@ class JointLimits:
 
 def _tolerance(value: float) -> float:
     """A tolerance as a finite float >= 0."""
-    number = float(as_array(value, "tolerance", ()))
-    if number < 0.0:
-        raise InvalidInputError(f"tolerance must be >= 0, got {number:.6g}", name="tolerance")
-    return number
+    return as_number(value, "tolerance", minimum=0.0)
