@@ -249,11 +249,24 @@ def combine(
     operations: with no constraint rows, ``QP.A`` is a shared read-only identity.
 
     Raises:
-        InvalidInputError: No objective, shapes that disagree, or a first bound with
-            lower > upper.
+        InvalidInputError: No objective, pieces that are not an Objective, Bounds or
+            Constraint, shapes that disagree, or a first bound with lower > upper.
     """
     if not objectives:
         raise InvalidInputError("combine needs at least one objective", name="objectives")
+    for pieces, kind, name in (
+        (objectives, Objective, "objectives"),
+        (bounds, Bounds, "bounds"),
+        (constraints, Constraint, "constraints"),
+    ):
+        if not isinstance(pieces, (list, tuple)) or not all(
+            isinstance(piece, kind) for piece in pieces
+        ):
+            raise InvalidInputError(
+                f"{name} must be a list or tuple of controllers.{kind.__name__}, got "
+                f"{type(pieces).__name__}",
+                name=name,
+            )
     n = objectives[0].c.size
     for objective in objectives:
         if objective.H.shape != (n, n) or objective.c.shape != (n,):

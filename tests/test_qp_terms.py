@@ -192,3 +192,17 @@ def test_combine_rejects_bad_pieces():
         combine([damping_objective(2, 1.0)], [bad])
     with pytest.raises(InvalidInputError, match=r"shape \(m, 2\)"):
         combine([damping_objective(2, 1.0)], [], [Constraint(np.ones((1, 3)), [0.0], [1.0])])
+
+
+@pytest.mark.parametrize(
+    ("arguments", "match"),
+    [
+        (([5],), "objectives must be a list or tuple of controllers.Objective"),
+        (([Objective(np.eye(2), np.zeros(2))], [(0.0, 1.0)]), "bounds must be a list or tuple"),
+        (([Objective(np.eye(2), np.zeros(2))], [], 5), "constraints must be a list or tuple"),
+    ],
+)
+def test_combine_refuses_pieces_of_the_wrong_kind(arguments, match):
+    # These were AttributeErrors (.c, .lower) or a TypeError (iterating 5).
+    with pytest.raises(InvalidInputError, match=match):
+        combine(*arguments)
