@@ -35,6 +35,15 @@ def _describe(value: object) -> str:
     return text if len(text) < 120 else text[:117] + "..."
 
 
+def _holds_a_bool(value: list[object] | tuple[object, ...]) -> bool:
+    """Whether a nested list or tuple holds a bool anywhere."""
+    return any(
+        isinstance(item, (bool, np.bool_))
+        or (isinstance(item, (list, tuple)) and _holds_a_bool(item))
+        for item in value
+    )
+
+
 def as_array(value: ArrayLike, name: str, shape: tuple[int | None, ...]) -> FloatArray:
     """Return ``value`` as a finite float array of the given shape.
 
@@ -52,6 +61,8 @@ def as_array(value: ArrayLike, name: str, shape: tuple[int | None, ...]) -> Floa
         raw = np.asarray(value)
         if raw.dtype.kind not in "iuf":  # no bools, strings or objects posing as numbers
             raise TypeError(raw.dtype)
+        if isinstance(value, (list, tuple)) and _holds_a_bool(value):
+            raise TypeError("bool")  # NumPy reads [0.5, True] as [0.5, 1.0]
         array = np.array(raw, dtype=float)
     except (TypeError, ValueError, OverflowError) as exc:
         raise InvalidInputError(
