@@ -639,7 +639,9 @@ class GeometricPath:
             w1 = 2.0 * h[1:] + h[:-1]
             w2 = h[1:] + 2.0 * h[:-1]
             same = delta[:-1] * delta[1:] > 0.0
-            with np.errstate(divide="ignore", invalid="ignore"):
+            # A slope near zero makes its term overflow to inf and the mean tend to 0, its
+            # limit (this weighted harmonic mean is at most 3 times its smaller slope).
+            with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
                 mean = (w1 + w2) / (w1 / delta[:-1] + w2 / delta[1:])
             slope[1:-1] = np.where(same, mean, 0.0)
             slope[0] = _pchip_end(h[0], h[1], delta[0], delta[1])

@@ -564,3 +564,15 @@ def test_a_still_move_with_a_boundary_velocity_has_no_line_to_follow():
     assert info.value.name == "q_goal"
     with pytest.raises(InvalidInputError, match="every waypoint equals the first"):
         Toppra().plan(problems.Waypoints(robot, [q, q + 1e-13]))
+
+
+def test_pchip_slopes_near_zero_stay_finite_without_overflow_warnings():
+    import warnings
+
+    from planners.toppra_planner import GeometricPath
+
+    waypoints = np.array([[0.0, 0.0], [1.0, 1e-310], [2.0, 2e-310], [3.0, 0.5]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the overflow in the slopes' mean was a RuntimeWarning
+        path = GeometricPath.pchip(waypoints)
+    assert np.all(np.isfinite(path.coefficients))
