@@ -225,7 +225,7 @@ def build_problem(robot: str, problem: str, options: Mapping[str, Any]) -> Any:
                 q_goal=_joint_values(model, get("q_goal", "home"), "--q-goal"),
                 duration=None if duration is None else as_duration(duration, "--duration"),
             )
-            if built.duration is None and list(built.q_start) == list(built.q_goal):
+            if built.duration is None and built.still:  # the one still-move rule
                 raise InvalidInputError(
                     "the goal equals the start (--q-start and --q-goal default to home): give "
                     f"--q-goal as {model.dof} joint positions [rad or m] or a pose name "

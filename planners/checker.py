@@ -43,7 +43,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, UnknownNameError
 from optraj.validation import MAX_COUNT, as_flag, as_number, as_positive, as_vector
-from planners.trajectory import TIME_TOLERANCE, Phase, Trajectory
+from planners.trajectory import MAX_RATE, TIME_TOLERANCE, Phase, Trajectory
 from problems.constraints import (
     BoundaryState,
     Constraint,
@@ -99,9 +99,6 @@ TIME_ROUND_OFF = 64.0 * float(np.finfo(float).eps)
 _NEGLIGIBLE = 64.0 * float(np.finfo(float).eps)
 #: Most segments whose via-point distance is examined exactly (the closest samples' segments).
 _MAX_REFINED = 64
-#: Highest sampling rate accepted [Hz]: one sample per microsecond, the shortest duration
-#: :func:`optraj.validation.as_duration` accepts.
-MAX_RATE = 1e6
 
 
 def round_off(scale: ArrayLike, slope: ArrayLike = 0.0, duration: float = 1.0) -> FloatArray:
