@@ -22,7 +22,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from controllers.controller import Reference, as_gains, cross3, rotation_error
-from optraj.errors import UnknownNameError
+from optraj.validation import as_choice
 from robots import Robot
 
 __all__ = ["AXIS_SINE", "TASKS", "CartesianPID", "tool_kinematics"]
@@ -57,8 +57,7 @@ def tool_kinematics(robot: Robot, q: FloatArray) -> tuple[FloatArray, FloatArray
 
 def check_task(task: str) -> str:
     """Validate a task name (``"pose"`` or ``"axis"``)."""
-    if task not in TASKS:
-        raise UnknownNameError("task", str(task), TASKS)
+    as_choice(task, "task", TASKS)
     return task
 
 

@@ -31,7 +31,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
-from optraj.validation import as_array, as_vector
+from optraj.validation import as_array, as_vector, ndim_of
 from planners.trajectory import TIME_TOLERANCE, Trajectory
 from robots import Robot
 
@@ -206,7 +206,7 @@ def as_gains(
     Raises:
         InvalidInputError: Another number of values, negative or non-finite entries.
     """
-    shape: tuple[None, ...] = () if np.ndim(value) == 0 else (None,)
+    shape: tuple[None, ...] = () if ndim_of(value) == 0 else (None,)
     array = np.atleast_1d(as_array(value, name, shape))
     if array.size == 1:
         array = np.full(size, array[0])

@@ -73,8 +73,16 @@ from controllers.qp_terms import (
     task_weights,
     velocity_bounds,
 )
-from optraj.errors import InvalidInputError, UnknownNameError, UnsupportedModelError
-from optraj.validation import as_array, as_count, as_flag, as_fraction, as_number, as_positive
+from optraj.errors import InvalidInputError, UnsupportedModelError
+from optraj.validation import (
+    as_array,
+    as_choice,
+    as_count,
+    as_flag,
+    as_fraction,
+    as_number,
+    as_positive,
+)
 from problems.common import check_robot
 from robots import JointLimits, Robot
 
@@ -222,8 +230,7 @@ class DiffIKQP(Controller):
         self.active_set_changes = as_count(
             active_set_changes, "active_set_changes", maximum=MAX_ACTIVE_SET_CHANGES
         )
-        if evaluation not in EVALUATIONS:
-            raise UnknownNameError("evaluation", str(evaluation), EVALUATIONS)
+        as_choice(evaluation, "evaluation", EVALUATIONS)
         self.evaluation = evaluation
         # Pieces that do not change from step to step, built once.
         self._damping = damping_objective(robot.dof, self.damping)

@@ -32,6 +32,7 @@ from controllers.plants import DynamicPlant, KinematicPlant, Plant
 from optraj.errors import InvalidInputError, SolverError, UnknownNameError
 from optraj.validation import (
     MAX_DURATION,
+    as_choice,
     as_count,
     as_duration,
     as_flag,
@@ -200,7 +201,7 @@ def _plant(robot: Robot, plant: str | Plant) -> Plant:
                 name="plant",
             )
         return plant
-    if plant == "dynamic":
+    if as_choice(plant, "plant", PLANTS) == "dynamic":
         return DynamicPlant(robot)
     if plant == "kinematic":
         return KinematicPlant(robot)

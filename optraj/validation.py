@@ -8,15 +8,17 @@ Imports nothing from the project but :mod:`optraj.errors`.
 from __future__ import annotations
 
 import reprlib
+from collections.abc import Iterable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from optraj.errors import InvalidInputError
+from optraj.errors import InvalidInputError, UnknownNameError
 
 __all__ = [
     "as_array",
     "as_batch",
+    "as_choice",
     "as_count",
     "as_duration",
     "as_flag",
@@ -25,6 +27,7 @@ __all__ = [
     "as_positive",
     "as_transform",
     "as_vector",
+    "ndim_of",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -88,6 +91,18 @@ def as_vector(value: ArrayLike, name: str, size: int | None = None) -> FloatArra
     return as_array(value, name, (size,))
 
 
+def ndim_of(value: object) -> int:
+    """The number of dimensions of ``value`` as NumPy reads it, -1 for ragged lists.
+
+    :func:`as_array` refuses ragged lists with a typed error; this lets a caller choose a
+    shape before that without NumPy's own ValueError.
+    """
+    try:
+        return int(np.ndim(value))
+    except ValueError:
+        return -1
+
+
 def as_batch(value: ArrayLike, name: str, size: int) -> tuple[FloatArray, bool]:
     """Accept one vector of length ``size`` or a stack of them.
 
@@ -97,11 +112,7 @@ def as_batch(value: ArrayLike, name: str, size: int) -> tuple[FloatArray, bool]:
     Raises:
         InvalidInputError: Wrong shape or non-finite entries.
     """
-    try:
-        ndim = np.ndim(value)
-    except ValueError:  # ragged nested sequences: let as_array report the shape
-        ndim = -1
-    if ndim == 1:
+    if ndim_of(value) == 1:
         return as_array(value, name, (size,))[None, :], True
     return as_array(value, name, (None, size)), False
 
@@ -238,3 +249,28 @@ def as_transform(value: ArrayLike, name: str, tolerance: float = 1e-6) -> FloatA
             f"{name}[3] must be [0, 0, 0, 1], got {_describe(transform[3])}", name=name, value=value
         )
     return transform
+
+
+def as_choice(value: object, kind: str, known: Iterable[str]) -> str:
+    """Return ``value`` if it is one of the names ``known`` (a str; no arrays or numbers).
+
+    Args:
+        value: The name given.
+        kind: What is named, for the message, e.g. ``"solver"``.
+        known: The valid names.
+
+    Raises:
+        InvalidInputError: ``value`` is not a str.
+        UnknownNameError: A str that is not one of ``known`` (the closest is suggested).
+    """
+    names = tuple(known)
+    if not isinstance(value, str):
+        raise InvalidInputError(
+            f"{kind} must be a name, one of {', '.join(map(repr, names))}; got "
+            f"{reprlib.repr(value)}",
+            name=kind,
+            value=value,
+        )
+    if value not in names:
+        raise UnknownNameError(kind, value, names)
+    return value

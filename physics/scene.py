@@ -44,7 +44,15 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
-from optraj.validation import as_array, as_flag, as_number, as_positive, as_vector
+from optraj.validation import (
+    as_array,
+    as_choice,
+    as_flag,
+    as_number,
+    as_positive,
+    as_vector,
+    ndim_of,
+)
 from problems.pool_strike import POOL_BALL_RADIUS
 from robots import Robot
 from robots.loading import urdf_model
@@ -190,10 +198,7 @@ class StrikeScene:
             raise InvalidInputError(
                 f"robot must be a robots.Robot, got {type(self.robot).__name__}", name="robot"
             )
-        if self.kind not in ("pool", "paddle"):
-            raise InvalidInputError(
-                f"scene kind must be 'pool' or 'paddle', got {self.kind!r}", name="kind"
-            )
+        as_choice(self.kind, "scene kind", ("pool", "paddle"))
         set_ = object.__setattr__
         set_(self, "ball", as_vector(self.ball, "ball", 3))
         set_(self, "ball_radius", as_positive(self.ball_radius, "ball_radius", "m"))
@@ -201,7 +206,7 @@ class StrikeScene:
         set_(self, "tool_mass", as_positive(self.tool_mass, "tool_mass", "kg"))
         set_(self, "kinematic", as_flag(self.kinematic, "kinematic"))
         scale = np.broadcast_to(
-            as_array(self.mass_scale, "mass_scale", (None,) if np.ndim(self.mass_scale) else ()),
+            as_array(self.mass_scale, "mass_scale", (None,) if ndim_of(self.mass_scale) else ()),
             (self.robot.dof,),
         ).copy()
         if np.any(scale <= 0.0) or np.any(scale > 10.0):

@@ -32,7 +32,15 @@ from optraj.errors import (
     UnknownNameError,
     UnreachableError,
 )
-from optraj.validation import as_array, as_count, as_duration, as_positive, as_vector
+from optraj.validation import (
+    as_array,
+    as_choice,
+    as_count,
+    as_duration,
+    as_positive,
+    as_vector,
+    ndim_of,
+)
 from planners.base import stamp
 from planners.checker import Report, check
 from planners.trajectory import Phase, Trajectory
@@ -273,8 +281,7 @@ def follow_tool_path(
     pose_array = as_array(poses, "poses", (m, 4, 4))
     twist_array = as_array(twists, "twists", (m, 6))
     accel_array = as_array(accelerations, "accelerations", (m, 6))
-    if on_jump not in ("raise", "warn"):
-        raise UnknownNameError("on_jump policy", str(on_jump), ["raise", "warn"])
+    as_choice(on_jump, "on_jump policy", ("raise", "warn"))
     frame_id = robot.frame_id(frame)
     previous = as_vector(q_start, "q_start", robot.dof)
     q = np.empty((m, robot.dof))
@@ -335,8 +342,7 @@ class CartesianStraightLine:
         self.profile = profile
         self.samples = as_count(samples, "samples", 10, maximum=MAX_IK_SAMPLES)
         self.jump_threshold = as_positive(jump_threshold, "jump_threshold", "rad or m")
-        if on_jump not in ("raise", "warn"):
-            raise UnknownNameError("on_jump policy", str(on_jump), ["raise", "warn"])
+        as_choice(on_jump, "on_jump policy", ("raise", "warn"))
         self.on_jump = on_jump
 
     @property
@@ -532,7 +538,7 @@ class LinearTrajectory:
 
     def sample(self, t: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Position [m], velocity [m/s], acceleration [m/s^2] at times t >= 0, each (m, 3)."""
-        times = np.atleast_1d(as_array(t, "t", (None,)) if np.ndim(t) else as_array(t, "t", ()))
+        times = np.atleast_1d(as_array(t, "t", (None,)) if ndim_of(t) else as_array(t, "t", ()))
         if np.any(times < 0.0):
             raise InvalidInputError("t must be >= 0 s", name="t")
         moving = times <= self.duration

@@ -42,7 +42,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, UnknownNameError
-from optraj.validation import MAX_COUNT, as_flag, as_number, as_positive, as_vector
+from optraj.validation import MAX_COUNT, as_choice, as_flag, as_number, as_positive, as_vector
 from planners.trajectory import MAX_RATE, TIME_TOLERANCE, Phase, Trajectory
 from problems.constraints import (
     BoundaryState,
@@ -497,7 +497,9 @@ def _unit_roots(slope: FloatArray) -> FloatArray:
         for i in range(m, -1, -1):  # Horner for the value and its derivative together
             derivative = derivative * u + value
             value = value * u + c[:, i : i + 1]
-        with np.errstate(divide="ignore", invalid="ignore"):
+        # A near-zero derivative overflows the Newton step: the clip below keeps the root
+        # in the segment, and the unpolished root u is a candidate too.
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             step = np.where(derivative != 0.0, value / derivative, 0.0)
         polished = np.clip(np.nan_to_num(u - step, nan=0.0), 0.0, 1.0)
         found[which, :m] = u
@@ -1663,8 +1665,7 @@ def _quantities(quantities: Iterable[str] | None) -> tuple[str, ...]:
                 name="quantities",
             ) from exc
     for name in wanted:
-        if name not in QUANTITIES:
-            raise UnknownNameError("quantity", str(name), QUANTITIES)
+        as_choice(name, "quantity", QUANTITIES)
     return tuple(q for q in QUANTITIES if q in wanted)
 
 

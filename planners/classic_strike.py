@@ -48,7 +48,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError
-from optraj.validation import as_count
+from optraj.validation import as_choice, as_count
 from planners.base import stamp
 from planners.cartesian import MAX_IK_SAMPLES
 from planners.lspb import LSPB
@@ -110,12 +110,7 @@ class ClassicStrike:
         samples: int = 60,
         contact: Literal["problem", "choose"] = "problem",
     ) -> None:
-        if profile not in PROFILES:
-            raise InvalidInputError(
-                f"profile must be one of {', '.join(repr(p) for p in PROFILES)}, got {profile!r}",
-                name="profile",
-                value=profile,
-            )
+        as_choice(profile, "profile", PROFILES)
         self.profile: Literal["cubic", "quintic", "lspb"] = profile
         self.samples = as_count(samples, "samples", 4, maximum=MAX_IK_SAMPLES)
         self.contact = check_contact(contact)

@@ -31,7 +31,7 @@ import ruckig
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError
-from optraj.validation import as_array, as_vector
+from optraj.validation import as_array, as_vector, ndim_of
 from planners.checker import ABSOLUTE_SLACK, RELATIVE_SLACK
 from planners.ruckig_planner import _calculate, _check_state, _input, _limits, _optional
 from problems import PointToPoint
@@ -257,7 +257,7 @@ def lower_bound_va(delta: ArrayLike, vmax: ArrayLike, amax: ArrayLike) -> float:
     arrays = []
     for name, value in (("delta", delta), ("vmax", vmax), ("amax", amax)):
         try:
-            scalar = np.ndim(value) == 0
+            scalar = ndim_of(value) == 0
         except ValueError:  # ragged: as_vector names the shape
             scalar = False
         array = np.atleast_1d(as_array(value, name, ()) if scalar else as_vector(value, name))

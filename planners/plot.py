@@ -17,8 +17,8 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
-from optraj.errors import InvalidInputError, MissingDependencyError, UnknownNameError
-from optraj.validation import as_count
+from optraj.errors import InvalidInputError, MissingDependencyError
+from optraj.validation import as_choice, as_count
 from planners.trajectory import Trajectory
 from robots import JointLimits, Robot
 
@@ -100,8 +100,7 @@ def plot_profiles(
         )
     wanted = list(quantities)
     for quantity in wanted:
-        if quantity not in _QUANTITIES:
-            raise UnknownNameError("plotted quantity", str(quantity), _QUANTITIES)
+        as_choice(quantity, "plotted quantity", _QUANTITIES)
     samples = {label: _samples(t, rate) for label, t in named.items()}
     if joint is None:
         ratios = [np.max(np.abs(s.qd), axis=0) / limits.velocity for s in samples.values()]

@@ -25,8 +25,8 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError, UnreachableError
-from optraj.validation import as_count, as_number, as_vector
+from optraj.errors import InfeasibleError, InvalidInputError, UnreachableError
+from optraj.validation import as_choice, as_count, as_number, as_vector
 from planners.base import stamp
 from planners.cartesian import follow_tool_path, limit_report, paddle_contact_velocity
 from planners.contact import choose_contact
@@ -81,8 +81,7 @@ def check_contact(contact: str) -> str:
     Raises:
         UnknownNameError: Another name (lists the known ones).
     """
-    if contact not in CONTACTS:
-        raise UnknownNameError("contact", str(contact), CONTACTS)
+    as_choice(contact, "contact", CONTACTS)
     return contact
 
 
@@ -131,10 +130,7 @@ class TimeOptimalStrike:
         samples: int = 60,
         contact: Literal["problem", "choose"] = "problem",
     ) -> None:
-        if approach not in ("ruckig", "toppra"):
-            raise InvalidInputError(
-                f"approach must be 'ruckig' or 'toppra', got {approach!r}", name="approach"
-            )
+        as_choice(approach, "approach", ("ruckig", "toppra"))
         self.approach = approach
         self.samples = as_count(samples, "samples", 4, MAX_LINE_SAMPLES)
         self.contact = check_contact(contact)

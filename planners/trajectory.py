@@ -25,16 +25,18 @@ from typing import Any, NamedTuple, cast
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from optraj.errors import InvalidInputError, UnknownNameError
+from optraj.errors import InvalidInputError
 from optraj.validation import (
     MAX_COUNT,
     MAX_DURATION,
     as_array,
+    as_choice,
     as_count,
     as_flag,
     as_number,
     as_positive,
     as_vector,
+    ndim_of,
 )
 
 __all__ = ["Phase", "Trajectory", "TrajectorySample"]
@@ -442,10 +444,8 @@ class Trajectory:
         Raises:
             UnknownNameError: No such phase; lists the phases.
         """
-        for phase in self.phases:
-            if phase.name == name:
-                return phase
-        raise UnknownNameError("phase", name, [p.name for p in self.phases])
+        as_choice(name, "phase", [p.name for p in self.phases])
+        return next(phase for phase in self.phases if phase.name == name)
 
     # ------------------------------------------------------------------------ sampling
 
@@ -464,7 +464,7 @@ class Trajectory:
         Raises:
             InvalidInputError: A time is not finite or lies outside [0, duration].
         """
-        scalar = np.ndim(t) == 0
+        scalar = ndim_of(t) == 0
         times = as_array(t, "t", ()) if scalar else as_vector(t, "t")
         times = np.atleast_1d(times)
         if times.size and (

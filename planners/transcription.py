@@ -65,7 +65,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from optraj.errors import UnknownNameError
-from optraj.validation import as_vector
+from optraj.validation import as_choice, as_vector, ndim_of
 from robots import JointLimits, SymbolicModel
 
 __all__ = [
@@ -129,7 +129,7 @@ def parameter_vector(**values: Any) -> FloatArray:
     for name, size in PARAMETERS:
         default = 1.0 if name == "time_scale" else 0.0
         value = values.get(name, np.full(size, default))
-        parts.append(as_vector(np.reshape(value, -1) if np.ndim(value) == 0 else value, name, size))
+        parts.append(as_vector(np.reshape(value, -1) if ndim_of(value) == 0 else value, name, size))
     return np.concatenate(parts)
 
 
@@ -564,8 +564,7 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
     n = lower.size
     layout = Layout(n, structure.intervals)
     mid, half = 0.5 * (lower + upper), 0.5 * (upper - lower)
-    if structure.torque_rows not in TORQUE_ROWS:
-        raise UnknownNameError("torque rows", structure.torque_rows, TORQUE_ROWS)
+    as_choice(structure.torque_rows, "torque rows", TORQUE_ROWS)
     w = ca.SX.sym("w", layout.size)
     base = sum(size for _, size in PARAMETERS)
     p = ca.SX.sym("p", base + torque_parameter_count(structure))

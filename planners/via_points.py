@@ -39,8 +39,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError
-from optraj.validation import as_duration
+from optraj.errors import InfeasibleError, InvalidInputError
+from optraj.validation import as_choice, as_duration
 from planners.base import stamp
 from planners.trajectory import Phase, Trajectory
 from problems import Waypoints
@@ -739,8 +739,7 @@ class ViaPoints:
     name = "via_points"
 
     def __init__(self, profile: str = "lspb", blend_time: float | None = None) -> None:
-        if profile not in PROFILES:
-            raise UnknownNameError("via-point profile", str(profile), PROFILES)
+        as_choice(profile, "via-point profile", PROFILES)
         self.profile = profile
         self.blend_time: float | None = None
         if blend_time is not None:

@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, JointLimitError, UnknownNameError
-from optraj.validation import as_batch, as_count, as_fraction, as_number, as_vector
+from optraj.validation import as_batch, as_choice, as_count, as_fraction, as_number, as_vector
 
 __all__ = ["JointLimits"]
 
@@ -117,8 +117,7 @@ class JointLimits:
 
     def unit(self, quantity: str, joint: int) -> str:
         """Unit of ``quantity`` (position, velocity, ...) for joint index ``joint``."""
-        if quantity not in _UNITS:
-            raise UnknownNameError("limited quantity", quantity, _UNITS)
+        as_choice(quantity, "limited quantity", _UNITS)
         if not 0 <= joint < self.n:
             raise InvalidInputError(
                 f"joint index {joint} is out of range for {self.n} joints", name="joint"

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import problems
-from optraj.errors import InfeasibleError, InvalidInputError
+from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError
 from planners.checker import check
 from planners.classic_strike import PROFILES, ClassicStrike, shortest_duration
 from planners.time_scaling import cubic_coefficients, quintic_coefficients
@@ -183,9 +183,9 @@ def test_shortest_duration_names_the_binding_joint():
 
 
 def test_bad_inputs_raise_typed_errors():
-    with pytest.raises(InvalidInputError, match="'cubic', 'quintic', 'lspb'") as info:
+    with pytest.raises(UnknownNameError, match="known: cubic, quintic, lspb") as info:
         ClassicStrike("trapezoid")  # type: ignore[arg-type]
-    assert info.value.name == "profile"
+    assert info.value.name == "trapezoid" and info.value.kind == "profile"
     with pytest.raises(InvalidInputError, match="samples"):
         ClassicStrike(samples=2)
     with pytest.raises(InvalidInputError, match="PoolStrike"):

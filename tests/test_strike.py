@@ -140,7 +140,7 @@ def test_a_line_that_pins_a_joint_on_its_limit_is_refused(approach):
 
 
 def test_bad_arguments():
-    with pytest.raises(InvalidInputError, match="approach must be"):
+    with pytest.raises(UnknownNameError, match="unknown approach 'rrt'"):
         TimeOptimalStrike("rrt")  # type: ignore[arg-type]
     for make in (TimeOptimalStrike, ClassicStrike):
         with pytest.raises(UnknownNameError, match="unknown contact 'nearest'"):

@@ -147,3 +147,25 @@ def test_durations_have_physical_bounds():
         as_duration(1e-200)
     with pytest.raises(InvalidInputError, match="numeric array"):
         as_duration("2")
+
+
+def test_as_choice_refuses_what_is_not_a_name():
+    from optraj.errors import UnknownNameError
+    from optraj.validation import as_choice
+
+    assert as_choice("ipopt", "solver", ("ipopt", "sqpmethod")) == "ipopt"
+    with pytest.raises(UnknownNameError, match=r"unknown solver 'ipop'.*did you mean 'ipopt'"):
+        as_choice("ipop", "solver", ("ipopt", "sqpmethod"))
+    for not_a_name in (np.array(["ipopt", "x"]), 3, None, ["ipopt"]):  # arrays made `in` fail
+        with pytest.raises(InvalidInputError, match="solver must be a name, one of 'ipopt'"):
+            as_choice(not_a_name, "solver", ("ipopt", "sqpmethod"))
+
+
+def test_ndim_of_reads_ragged_lists_as_minus_one():
+    from optraj.validation import ndim_of
+
+    assert ndim_of(1.0) == 0
+    assert ndim_of([[1.0, 2.0], [3.0, 4.0]]) == 2
+    assert ndim_of([[1.0, 2.0], [3.0]]) == -1
+    with pytest.raises(InvalidInputError, match="numeric array"):
+        as_array([[1.0, 2.0], [3.0]], "gains", (None,))

@@ -259,49 +259,10 @@ ENTRIES: list[tuple[str, Callable[[Any], Any], int | None]] = [
 ]
 
 
-_NAME_AS_ARRAY = (
-    "a numpy array as a name: ValueError 'truth value of an array is ambiguous' from a "
-    "'name in KNOWN' test; to be fixed in the library's name checks (issue 32, item 6)"
-)
-_RAGGED = (
-    "a ragged list [[1.0, 2.0], [3.0]]: numpy ValueError 'setting an array element with a "
-    "sequence' from np.asarray before validation (issue 32, item 6)"
-)
 #: Entries that the fuzz run found failing, with the defect; xfail until the library fix.
-KNOWN_FAILURES: dict[str, str] = {
-    **{
-        name: _NAME_AS_ARRAY
-        for name in (
-            "ViaPoints(profile=...)",
-            "PseudoInversePID(task=...)",
-            "DiffIKQP(task=...)",
-            "DiffIKQP(evaluation=...)",
-            "simulate(plant=...)",
-            "check(quantities=...)",
-            "Trajectory methods(phase=...)",
-            "OptimalControl(solver=...)",
-            "OptimalControl(torque_rows=...)",
-        )
-    },
-    **{
-        name: _RAGGED
-        for name in (
-            "JointPD(kp=...)",
-            "JointPD(kd=...)",
-            "PseudoInversePID(kp=...)",
-            "PseudoInversePID(ki=...)",
-            "PseudoInversePID(kd=...)",
-            "PseudoInversePID(integral_limit=...)",
-            "DiffIKQP(kp=...)",
-            "CartesianPID(kp=...)",
-            "Trajectory methods(sample=...)",
-        )
-    },
-    "PseudoInversePID(damping=...)": (
-        "damping 1e308 gives OverflowError and 1e-300 LinAlgError (singular) in "
-        "controllers/pseudo_inverse_pid.py; the damping needs bounds (issue 32, item 6)"
-    ),
-}
+#: Fixed so far: names given as arrays (optraj.validation.as_choice), ragged gain lists
+#: (optraj.validation.ndim_of), PseudoInversePID's damping bounds.
+KNOWN_FAILURES: dict[str, str] = {}
 
 
 def _params() -> list[Any]:
