@@ -129,7 +129,7 @@ _SAWYER_ZERO_POSE = [
     [0.0, 0.0, 0.0, 1.0],
 ]
 #: Reproducers of what the fuzz runs found: (id, planner, problem, xfail reason while the
-#: library fix is open, else None). The first three were fixed in e3e8da6.
+#: library fix is open, else None). All are fixed; they stay as regression cases.
 KNOWN = [
     # Found: numpy LinAlgError (singular J J^T) in planners/cartesian.py _joint_rates.
     (
@@ -184,9 +184,7 @@ KNOWN = [
         "optimal control from a prismatic joint at its lower limit",
         PlannerSpec("OptimalControl", ("time",)),
         ProblemSpec("paddle4", "PointToPoint", {"q_start": [0.0] * 4, "q_goal": [0, 2.0, 0, 0]}),
-        "OptimalControl('time') returns a plan whose joint J3 (prismatic, start and goal at its "
-        "lower limit 0 m) dips to -3.95e-9 m at the end: the checker fails position; a plan "
-        "must pass the checker or raise (issue 32, item 3: one round-off rule)",
+        None,  # its joint J3 ended 3.95e-9 m past its lower limit 0 m, where its goal is
     ),
 ]
 
