@@ -42,8 +42,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, UnknownNameError
-from optraj.validation import MAX_COUNT, as_choice, as_flag, as_number, as_positive, as_vector
-from planners.trajectory import MAX_RATE, TIME_TOLERANCE, Phase, Trajectory
+from optraj.validation import as_choice, as_flag, as_number, as_positive, as_vector
+from planners.trajectory import MAX_RATE, TIME_TOLERANCE, Phase, Trajectory, sampling_rate
 from problems.constraints import (
     BoundaryState,
     Constraint,
@@ -1669,30 +1669,6 @@ def _quantities(quantities: Iterable[str] | None) -> tuple[str, ...]:
     return tuple(q for q in QUANTITIES if q in wanted)
 
 
-def _rate(rate: object, trajectory: Trajectory) -> float:
-    """The sampling rate [Hz], in (0, MAX_RATE], and within the sample budget.
-
-    The samples of every joint are held at once (positions to jerks, and torques), so their
-    number, instants times joints, is bounded by :data:`optraj.validation.MAX_COUNT`.
-
-    Raises:
-        InvalidInputError: Not a number (bools refused), <= 0, above MAX_RATE, or more
-            sampled values than MAX_COUNT; the message names the rate that would fit.
-    """
-    value = as_positive(rate, "rate", "Hz", maximum=MAX_RATE)
-    samples = math.ceil(trajectory.duration * value) + 1
-    if samples * trajectory.dof > MAX_COUNT:
-        fits = (MAX_COUNT / trajectory.dof - 1.0) / trajectory.duration
-        raise InvalidInputError(
-            f"rate {value:.6g} Hz over a {trajectory.duration:.6g} s trajectory of "
-            f"{trajectory.dof} joints needs {samples * trajectory.dof:.3g} sampled values, "
-            f"more than MAX_COUNT = {MAX_COUNT:.3g}; give rate <= {fits:.6g} Hz",
-            name="rate",
-            value=rate,
-        )
-    return value
-
-
 def check(
     trajectory: Trajectory,
     target: Robot | Checkable,
@@ -1740,7 +1716,7 @@ def check(
             name="trajectory",
         )
     wanted = _quantities(quantities)
-    rate = _rate(rate, trajectory)
+    rate = sampling_rate(rate, trajectory.duration, trajectory.dof)
     grid = trajectory.times(rate)
     knots = np.asarray(trajectory.breakpoints, dtype=float)
     derivatives = _derivatives(np.asarray(trajectory.coefficients, dtype=float), 4)

@@ -39,7 +39,7 @@ from optraj.validation import (
     ndim_of,
 )
 
-__all__ = ["Phase", "Trajectory", "TrajectorySample"]
+__all__ = ["Phase", "Trajectory", "TrajectorySample", "sampling_rate"]
 
 FloatArray = NDArray[np.float64]
 
@@ -93,6 +93,31 @@ class Phase:
     def duration(self) -> float:
         """Length of the phase [s]."""
         return self.t_end - self.t_start
+
+
+def sampling_rate(rate: object, duration: float, dof: int) -> float:
+    """``rate`` [Hz] checked for sampling ``dof`` joints over ``duration`` [s].
+
+    All samples of every joint are held at once, so their number (instants times joints)
+    is bounded by :data:`optraj.validation.MAX_COUNT`: q, qd, qdd and jerk are then at most
+    320 MB.
+
+    Raises:
+        InvalidInputError: Not a number (bools refused), <= 0, above :data:`MAX_RATE`, or
+            more sampled values than MAX_COUNT; the message names the rate that would fit.
+    """
+    hz = as_positive(rate, "rate", "Hz", maximum=MAX_RATE)
+    samples = max(math.ceil(duration * hz), 1) + 1
+    if samples * dof > MAX_COUNT:
+        fits = (MAX_COUNT / dof - 1.0) / duration
+        raise InvalidInputError(
+            f"rate {hz:.6g} Hz over a {duration:.6g} s trajectory of {dof} joints needs "
+            f"{samples * dof:.3g} sampled values, more than MAX_COUNT = {MAX_COUNT:.3g}; give "
+            f"rate <= {fits:.6g} Hz",
+            name="rate",
+            value=rate,
+        )
+    return hz
 
 
 class TrajectorySample(NamedTuple):
@@ -505,18 +530,9 @@ class Trajectory:
                 :data:`optraj.validation.MAX_COUNT` values, the checker's rule too: the
                 samples of q, qd, qdd and jerk are then at most 320 MB.
         """
-        hz = as_positive(rate, "rate", "Hz", maximum=MAX_RATE)
+        hz = sampling_rate(rate, self.duration, self.dof)
         with_breakpoints = as_flag(include_breakpoints, "include_breakpoints")
         count = max(math.ceil(self.duration * hz), 1)
-        if (count + 1) * self.dof > MAX_COUNT:
-            fits = (MAX_COUNT / self.dof - 1.0) / self.duration
-            raise InvalidInputError(
-                f"rate {hz:.6g} Hz over a {self.duration:.6g} s trajectory of {self.dof} joints "
-                f"needs {(count + 1) * self.dof:.3g} sampled values, more than MAX_COUNT = "
-                f"{MAX_COUNT:.3g}; give rate <= {fits:.6g} Hz",
-                name="rate",
-                value=rate,
-            )
         grid = np.linspace(0.0, self.duration, count + 1)
         if with_breakpoints:
             inner = self._knots[1:-1]

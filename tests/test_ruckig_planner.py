@@ -69,6 +69,23 @@ def _max_deviation_from_native(traj, native, times):
 # ------------------------------------------------------------------- random moves, checked
 
 
+def _moving(robot, q0, q1, shares, limits, **options):
+    """A PointToPoint between q0 and q1 whose boundary velocities and accelerations are the
+    rows of ``shares`` (shape (4, n)) times the limits: qd_start, qd_goal, qdd_start, qdd_goal.
+    """
+    return problems.PointToPoint(
+        robot,
+        q0,
+        q1,
+        qd_start=shares[0] * limits.velocity,
+        qd_goal=shares[1] * limits.velocity,
+        qdd_start=shares[2] * limits.acceleration,
+        qdd_goal=shares[3] * limits.acceleration,
+        limits=limits,
+        **options,
+    )
+
+
 def test_random_rest_to_rest_moves_pass_the_checker():
     robot = get_robot("sawyer")
     rng = np.random.default_rng(20240611)
@@ -98,16 +115,7 @@ def test_random_state_to_state_moves_pass_the_checker_or_raise_typed_errors():
         limits = _random_limits(robot, rng)
         q0, q1 = _inner(limits, rng), _inner(limits, rng)
         half = 0.5 * rng.uniform(-1.0, 1.0, size=(4, robot.dof))
-        problem = problems.PointToPoint(
-            robot,
-            q0,
-            q1,
-            qd_start=half[0] * limits.velocity,
-            qd_goal=half[1] * limits.velocity,
-            qdd_start=half[2] * limits.acceleration,
-            qdd_goal=half[3] * limits.acceleration,
-            limits=limits,
-        )
+        problem = _moving(robot, q0, q1, half, limits)
         try:
             traj = planner.plan(problem)
         except InfeasibleError as exc:
@@ -211,17 +219,7 @@ def test_a_tolerance_tighter_than_ruckigs_precision_raises_when_planned():
         middle, half = 0.5 * (limits.lower + limits.upper), 0.5 * (limits.upper - limits.lower)
         q0, q1 = (middle + 0.8 * half * rng.uniform(-1.0, 1.0, robot.dof) for _ in range(2))
         state = rng.uniform(-1.0, 1.0, size=(4, robot.dof)) * rng.uniform(0.0, 1.0)
-        problem = problems.PointToPoint(
-            robot,
-            q0,
-            q1,
-            qd_start=state[0] * limits.velocity,
-            qd_goal=state[1] * limits.velocity,
-            qdd_start=state[2] * limits.acceleration,
-            qdd_goal=state[3] * limits.acceleration,
-            limits=limits,
-            tolerance=0.0,
-        )
+        problem = _moving(robot, q0, q1, state, limits, tolerance=0.0)
         try:
             traj = Ruckig().plan(problem)
         except InfeasibleError:
