@@ -26,7 +26,7 @@ test: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/python benchmarks/run_all.py --readme
 
-# 100,000 fuzz cases from a fixed seed (FUZZ_SEED, FUZZ_CASES override), about 30 min on
+# 100,000 fuzz cases from a fixed seed (FUZZ_SEED, FUZZ_CASES override), under 10 min on
 # 2 cores; rewrites benchmarks/results/fuzz.md.
 fuzz: $(STAMP)
 	$(BIN)/python benchmarks/fuzz.py --out benchmarks/results
