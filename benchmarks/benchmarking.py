@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-import problems
+from optraj import problems
 from optraj.errors import UnreachableError
 
 #: Cue speed of the pool shots [m/s].

@@ -34,15 +34,12 @@ from typing import Any
 
 import numpy as np
 
-import controllers
-import physics
-import planners
-import problems
 from benchmarking import pool_shots, progress, shot_arguments, write_report
+from optraj import controllers, physics, planners, problems
 from optraj.errors import OptrajError
-from planners.plot import pyplot
-from planners.trajectory import Trajectory
-from robots import Robot
+from optraj.planners.plot import pyplot
+from optraj.planners.trajectory import Trajectory
+from optraj.robots import Robot
 
 RESULTS = Path(__file__).resolve().parent / "results"
 #: Plans use this fraction of the limits, leaving the controllers room (README).

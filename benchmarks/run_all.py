@@ -28,10 +28,8 @@ import strike
 import time_optimal
 import tracking
 
-import controllers
-import planners
-import problems
 from benchmarking import progress
+from optraj import controllers, planners, problems
 from optraj.errors import OptrajError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -71,7 +69,7 @@ def draw_plots(out: Path) -> list[Path]:
     import matplotlib
 
     matplotlib.use("Agg")
-    from planners.plot import plot_profiles, plot_tool_speed, pyplot
+    from optraj.planners.plot import plot_profiles, plot_tool_speed, pyplot
 
     plt = pyplot()
     shot = problems.sawyer_pool_shot(speed=1.0)

@@ -31,14 +31,14 @@ from typing import Any
 
 import numpy as np
 
-import problems
 from benchmarking import SEED, SPEED, pool_shots, progress, shot_arguments, write_report
+from optraj import problems
 from optraj.errors import CONTACT_CHOICE, WINDOW_CHECK, InfeasibleError, OptrajError
-from planners.checker import Report, check
-from planners.classic_strike import ClassicStrike
-from planners.optimal_control import OptimalControl
-from planners.seed_strike import SeedStrike
-from planners.strike import TimeOptimalStrike
+from optraj.planners.checker import Report, check
+from optraj.planners.classic_strike import ClassicStrike
+from optraj.planners.optimal_control import OptimalControl
+from optraj.planners.seed_strike import SeedStrike
+from optraj.planners.strike import TimeOptimalStrike
 
 RESULTS = Path(__file__).resolve().parent / "results"
 

@@ -27,12 +27,10 @@ import toppra
 import toppra.algorithm
 import toppra.constraint
 
-import planners
-import problems
-import robots
 from benchmarking import progress, write_report
+from optraj import planners, problems, robots
 from optraj.errors import MissingDependencyError, OptrajError
-from planners.lower_bound import lower_bound
+from optraj.planners.lower_bound import lower_bound
 
 RESULTS = Path(__file__).resolve().parent / "results"
 

@@ -38,14 +38,13 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-import controllers
-import problems
 from benchmarking import SEED, SPEED, pool_shots, progress, shot_arguments, write_report
-from controllers.simulation import Impulse, Noise, Result, simulate
+from optraj import controllers, problems
+from optraj.controllers.simulation import Impulse, Noise, Result, simulate
 from optraj.errors import CompilerError, OptrajError
-from planners.optimal_control import OptimalControl
-from planners.trajectory import Trajectory
-from robots import Robot
+from optraj.planners.optimal_control import OptimalControl
+from optraj.planners.trajectory import Trajectory
+from optraj.robots import Robot
 
 RESULTS = Path(__file__).resolve().parent / "results"
 

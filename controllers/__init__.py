@@ -4,15 +4,15 @@ Every controller has ``reset(state)`` and ``step(state, reference, dt) -> Comman
 velocity command, with the plan's feed-forward torque for the plant's servo); :func:`simulate`
 runs one in closed loop on a simulated robot and measures how well it tracked.
 
->>> import controllers, planners, problems
+>>> from optraj import controllers, planners, problems
 >>> shot = problems.sawyer_pool_shot(speed=1.0)
 >>> traj = planners.OptimalControl("time").plan(shot)
 >>> result = controllers.simulate(shot.robot, traj, controllers.DiffIKQP(shot.robot, task="axis"))
 >>> result.metrics.strike.speed_error_max   # relative speed error along the line
 """
 
-from controllers.cartesian_pid import CartesianPID, tool_kinematics
-from controllers.controller import (
+from optraj.controllers.cartesian_pid import CartesianPID, tool_kinematics
+from optraj.controllers.controller import (
     Command,
     Controller,
     Reference,
@@ -21,20 +21,20 @@ from controllers.controller import (
     rotation_error,
     sample_references,
 )
-from controllers.diff_ik_qp import DiffIKQP
-from controllers.joint_pd import JointPD
-from controllers.metrics import Metrics, StrikeMetrics, Violation, tracking_metrics
-from controllers.plants import (
+from optraj.controllers.diff_ik_qp import DiffIKQP
+from optraj.controllers.joint_pd import JointPD
+from optraj.controllers.metrics import Metrics, StrikeMetrics, Violation, tracking_metrics
+from optraj.controllers.plants import (
     DynamicPlant,
     KinematicPlant,
     Plant,
     PlantState,
     tool_force_to_joint_velocity,
 )
-from controllers.plot import plot_tracking
-from controllers.pseudo_inverse_pid import PseudoInversePID
-from controllers.qp_terms import QP, Bounds, Constraint, Objective, combine
-from controllers.simulation import PLANTS, Impulse, Noise, Result, simulate
+from optraj.controllers.plot import plot_tracking
+from optraj.controllers.pseudo_inverse_pid import PseudoInversePID
+from optraj.controllers.qp_terms import QP, Bounds, Constraint, Objective, combine
+from optraj.controllers.simulation import PLANTS, Impulse, Noise, Result, simulate
 
 __all__ = [
     "PLANTS",

@@ -21,9 +21,9 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
-from controllers.controller import Reference, as_gains, cross3, rotation_error
+from optraj.controllers.controller import Reference, as_gains, cross3, rotation_error
+from optraj.robots import Robot
 from optraj.validation import as_choice
-from robots import Robot
 
 __all__ = ["AXIS_SINE", "TASKS", "CartesianPID", "tool_kinematics"]
 

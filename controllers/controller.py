@@ -31,9 +31,9 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
+from optraj.planners.trajectory import TIME_TOLERANCE, Trajectory
+from optraj.robots import Robot
 from optraj.validation import as_array, as_vector, ndim_of
-from planners.trajectory import TIME_TOLERANCE, Trajectory
-from robots import Robot
 
 __all__ = [
     "Command",

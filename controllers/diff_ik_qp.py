@@ -57,10 +57,10 @@ import scipy.sparse as sparse
 from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import lapack
 
-from controllers.cartesian_pid import CartesianPID, tool_kinematics
-from controllers.controller import Command, Controller, Reference, State
-from controllers.fused_step import FusedStep, StepSettings
-from controllers.qp_terms import (
+from optraj.controllers.cartesian_pid import CartesianPID, tool_kinematics
+from optraj.controllers.controller import Command, Controller, Reference, State
+from optraj.controllers.fused_step import FusedStep, StepSettings
+from optraj.controllers.qp_terms import (
     QP,
     Constraint,
     acceleration_bounds,
@@ -74,6 +74,8 @@ from controllers.qp_terms import (
     velocity_bounds,
 )
 from optraj.errors import InvalidInputError, UnsupportedModelError
+from optraj.problems.common import check_robot
+from optraj.robots import JointLimits, Robot
 from optraj.validation import (
     as_array,
     as_choice,
@@ -83,8 +85,6 @@ from optraj.validation import (
     as_number,
     as_positive,
 )
-from problems.common import check_robot
-from robots import JointLimits, Robot
 
 __all__ = ["DiffIKQP"]
 

@@ -40,10 +40,10 @@ import casadi as ca
 import numpy as np
 from numpy.typing import NDArray
 
-from controllers.cartesian_pid import AXIS_SINE, CartesianPID
-from controllers.qp_terms import task_weights
+from optraj.controllers.cartesian_pid import AXIS_SINE, CartesianPID
+from optraj.controllers.qp_terms import task_weights
 from optraj.errors import CompilerError
-from robots import JointLimits, Robot, SymbolicModel
+from optraj.robots import JointLimits, Robot, SymbolicModel
 
 __all__ = ["NEAR_HALF_TURN", "FusedStep", "StepSettings"]
 

@@ -13,10 +13,10 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from controllers.controller import Command, Controller, Reference, State, as_gains
+from optraj.controllers.controller import Command, Controller, Reference, State, as_gains
+from optraj.problems.common import check_robot
+from optraj.robots import Robot
 from optraj.validation import as_flag
-from problems.common import check_robot
-from robots import Robot
 
 __all__ = ["JointPD"]
 

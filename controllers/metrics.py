@@ -14,8 +14,8 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
-from controllers.controller import References
-from robots import JointLimits, Robot
+from optraj.controllers.controller import References
+from optraj.robots import JointLimits, Robot
 
 __all__ = ["Metrics", "StrikeMetrics", "Violation", "tracking_metrics", "violation"]
 

@@ -39,8 +39,8 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
+from optraj.robots import Robot
 from optraj.validation import as_array, as_flag, as_number, as_positive, as_vector
-from robots import Robot
 
 __all__ = [
     "DynamicPlant",

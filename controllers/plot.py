@@ -12,10 +12,10 @@ from typing import Any
 
 import numpy as np
 
-from controllers.simulation import Result
+from optraj.controllers.simulation import Result
 from optraj.errors import InvalidInputError
-from planners.plot import pyplot
-from robots import JointLimits
+from optraj.planners.plot import pyplot
+from optraj.robots import JointLimits
 
 __all__ = ["plot_tracking"]
 

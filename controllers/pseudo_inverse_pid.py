@@ -18,12 +18,12 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from controllers.cartesian_pid import CartesianPID, tool_kinematics
-from controllers.controller import Command, Controller, Reference, State, cross3
+from optraj.controllers.cartesian_pid import CartesianPID, tool_kinematics
+from optraj.controllers.controller import Command, Controller, Reference, State, cross3
 from optraj.errors import InvalidInputError
+from optraj.problems.common import check_robot
+from optraj.robots import Robot
 from optraj.validation import as_flag, as_number
-from problems.common import check_robot
-from robots import Robot
 
 __all__ = ["PseudoInversePID"]
 

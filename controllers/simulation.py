@@ -26,10 +26,13 @@ from typing import Any, TextIO
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from controllers.controller import Controller, References, State, sample_references
-from controllers.metrics import Metrics, tracking_metrics
-from controllers.plants import DynamicPlant, KinematicPlant, Plant
+from optraj.controllers.controller import Controller, References, State, sample_references
+from optraj.controllers.metrics import Metrics, tracking_metrics
+from optraj.controllers.plants import DynamicPlant, KinematicPlant, Plant
 from optraj.errors import InvalidInputError, SolverError, UnknownNameError
+from optraj.planners.trajectory import Trajectory
+from optraj.problems.common import check_robot
+from optraj.robots import Robot
 from optraj.validation import (
     MAX_DURATION,
     as_choice,
@@ -39,9 +42,6 @@ from optraj.validation import (
     as_number,
     as_vector,
 )
-from planners.trajectory import Trajectory
-from problems.common import check_robot
-from robots import Robot
 
 __all__ = ["PLANTS", "Impulse", "Noise", "Result", "simulate"]
 

@@ -76,7 +76,7 @@ def make_planner(problem: str, name: str) -> Any:
         raise UnknownNameError("problem", problem, PLANNERS)
     if name not in PLANNERS[problem]:
         raise UnknownNameError(f"planner for {problem}", name, PLANNERS[problem])
-    import planners
+    from optraj import planners
 
     if name.startswith("optimal-control"):
         return planners.OptimalControl(objective="jerk" if name.endswith("jerk") else "time")
@@ -103,7 +103,7 @@ def make_planner(problem: str, name: str) -> Any:
 
 def _check_fit(robot: str, problem: str) -> None:
     """Raise unless ``problem`` is known and made for ``robot``."""
-    import robots
+    from optraj import robots
 
     if robot not in robots.known_robots():
         raise UnknownNameError("robot", robot, robots.known_robots())
@@ -176,8 +176,7 @@ def build_problem(robot: str, problem: str, options: Mapping[str, Any]) -> Any:
     """
     import dataclasses
 
-    import problems
-    import robots
+    from optraj import problems, robots
     from optraj.validation import as_duration, as_fraction, as_number, as_vector
 
     _check_fit(robot, problem)
@@ -207,7 +206,7 @@ def build_problem(robot: str, problem: str, options: Mapping[str, Any]) -> Any:
                 **extra,
             )
         elif problem == "paddle-strike":
-            from problems.scenarios import SEED_PADDLE_BALLS
+            from optraj.problems.scenarios import SEED_PADDLE_BALLS
 
             built = problems.PaddleStrike(
                 robots.load("paddle4"),
@@ -269,7 +268,7 @@ def _cmd_demo(args: argparse.Namespace, out: TextIO) -> int:
 
 
 def _cmd_robots(args: argparse.Namespace, out: TextIO) -> int:
-    import robots
+    from optraj import robots
 
     for name, summary in robots.known_robots().items():
         out.write(f"{name:<10}{summary}\n")
@@ -310,7 +309,7 @@ def _cmd_plan(args: argparse.Namespace, out: TextIO) -> int:
             "q_goal": [float(v) for v in problem.q_goal],
             **{k: v for k, v in options.items() if k not in ("q_start", "q_goal")},
         }
-    import planners
+    from optraj import planners
 
     traj = planner.plan(problem)
     tag_trajectory(traj, robot, args.problem, options)
@@ -363,10 +362,9 @@ def _show(options: Mapping[str, Any]) -> str:
 
 
 def _cmd_check(args: argparse.Namespace, out: TextIO) -> int:
-    import planners
-    import robots
+    from optraj import planners, robots
+    from optraj.planners.checker import MAX_RATE
     from optraj.validation import as_positive
-    from planners.checker import MAX_RATE
 
     # Before the file is read: a bad flag is the first thing to say.
     rate = as_positive(args.rate, "--rate", "Hz", maximum=MAX_RATE)

@@ -56,7 +56,7 @@ class Progress:
 
 def run(args: argparse.Namespace, out: TextIO) -> int:
     """Run the whole demo; returns the exit status."""
-    import robots
+    from optraj import robots
 
     progress = Progress()
     try:
@@ -88,7 +88,7 @@ def _robot_report(name: str, out: TextIO) -> None:
     import numpy as np
     import pinocchio as pin
 
-    import robots
+    from optraj import robots
 
     robot = robots.load(name)
     T = robot.tool_pose(robot.home)
@@ -120,8 +120,7 @@ def _robot_report(name: str, out: TextIO) -> None:
 def _seed_table(out: TextIO) -> None:
     import numpy as np
 
-    import planners
-    import problems
+    from optraj import planners, problems
 
     problem = problems.seed_paddle_strike()
     traj = planners.Cubic().plan(problem)
@@ -135,8 +134,7 @@ def _seed_table(out: TextIO) -> None:
 
 
 def _verdicts(out: TextIO) -> None:
-    import planners
-    import problems
+    from optraj import planners, problems
     from optraj.cli import describe_failures
 
     cases = [
@@ -178,8 +176,7 @@ def _ratio(value: float) -> str:
 
 def strike_section(out_dir: Path, out: TextIO, progress: Any = None) -> None:
     """Plan, check and track the pool shot; write plots and plans to ``out_dir``."""
-    import planners
-    import problems
+    from optraj import planners, problems
     from optraj.cli import PLANNERS, describe_failures, make_planner, tag_trajectory
 
     progress = progress if progress is not None else (lambda message: None)
@@ -237,8 +234,7 @@ def _tracking(problem: Any, files: dict[str, Any], progress: Any, out: TextIO) -
     """Track the min-time plan made within a fraction of the limits; print the table."""
     import dataclasses
 
-    import controllers
-    import planners
+    from optraj import controllers, planners
     from optraj.cli import tag_trajectory
 
     robot = problem.robot
@@ -289,8 +285,7 @@ def _signed(value: float, digits: int = 3) -> str:
 
 def _where_the_ball_went(problem: Any, traj: Any, out: TextIO) -> None:
     """The plan alone and each controller on the MuJoCo plant: where the ball went."""
-    import controllers
-    import physics
+    from optraj import controllers, physics
 
     robot = problem.robot
     scene = physics.scene_for(problem)
@@ -342,8 +337,8 @@ def write_plots(
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        import controllers
-        from planners import plot as plotting
+        from optraj import controllers
+        from optraj.planners import plot as plotting
     except ImportError:
         out.write("\nplots skipped: matplotlib is not installed (pip install 'optraj[examples]')\n")
         return []

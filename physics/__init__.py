@@ -8,12 +8,12 @@
 >>> physics.plot_ball_paths({"DiffIKQP": [ball]})               # seen from above
 """
 
-from physics.contact_watch import ContactWatch
-from physics.outcome import HEADING_TOLERANCE, SPEED_TOLERANCE, Outcome, outcome
-from physics.plant import MujocoPlant
-from physics.plot import plot_ball_paths, plot_heading_errors
-from physics.replay import replay, straight_cue
-from physics.scene import StrikeScene, World, paddle_scene, pool_scene, scene_for
+from optraj.physics.contact_watch import ContactWatch
+from optraj.physics.outcome import HEADING_TOLERANCE, SPEED_TOLERANCE, Outcome, outcome
+from optraj.physics.plant import MujocoPlant
+from optraj.physics.plot import plot_ball_paths, plot_heading_errors
+from optraj.physics.replay import replay, straight_cue
+from optraj.physics.scene import StrikeScene, World, paddle_scene, pool_scene, scene_for
 
 __all__ = [
     "HEADING_TOLERANCE",

@@ -21,7 +21,7 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from physics.scene import World
+from optraj.physics.scene import World
 
 __all__ = ["LOOKAHEAD", "ContactWatch"]
 

@@ -26,12 +26,12 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from controllers.simulation import Result
+from optraj.controllers.simulation import Result
 from optraj.errors import InvalidInputError
-from physics.replay import straight_cue
-from physics.scene import StrikeScene
-from problems.paddle_strike import PaddleStrike
-from problems.pool_strike import PoolStrike
+from optraj.physics.replay import straight_cue
+from optraj.physics.scene import StrikeScene
+from optraj.problems.paddle_strike import PaddleStrike
+from optraj.problems.pool_strike import PoolStrike
 
 __all__ = ["HEADING_TOLERANCE", "SPEED_TOLERANCE", "Outcome", "outcome"]
 

@@ -30,11 +30,11 @@ import mujoco
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from controllers.plants import Plant, PlantState, frozen_state
+from optraj.controllers.plants import Plant, PlantState, frozen_state
 from optraj.errors import InvalidInputError
+from optraj.physics.contact_watch import ContactWatch
+from optraj.physics.scene import StrikeScene, World
 from optraj.validation import as_flag, as_positive
-from physics.contact_watch import ContactWatch
-from physics.scene import StrikeScene, World
 
 __all__ = ["MujocoPlant"]
 

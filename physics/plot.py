@@ -17,9 +17,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from optraj.errors import InvalidInputError
-from physics.outcome import HEADING_TOLERANCE, Outcome
-from physics.scene import BALL_FROM_NEAR_END, TABLE_SIZE
-from planners.plot import pyplot
+from optraj.physics.outcome import HEADING_TOLERANCE, Outcome
+from optraj.physics.scene import BALL_FROM_NEAR_END, TABLE_SIZE
+from optraj.planners.plot import pyplot
 
 __all__ = ["plot_ball_paths", "plot_heading_errors"]
 

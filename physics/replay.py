@@ -22,10 +22,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
+from optraj.physics.contact_watch import ContactWatch
+from optraj.physics.scene import StrikeScene, World
+from optraj.planners.trajectory import Trajectory
 from optraj.validation import as_number, as_positive, as_vector
-from physics.contact_watch import ContactWatch
-from physics.scene import StrikeScene, World
-from planners.trajectory import Trajectory
 
 __all__ = ["replay", "straight_cue"]
 

@@ -44,6 +44,10 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
+from optraj.problems.pool_strike import POOL_BALL_RADIUS
+from optraj.robots import Robot
+from optraj.robots.loading import urdf_model
+from optraj.robots.paddle_ik import BALL_OFFSET
 from optraj.validation import (
     as_array,
     as_choice,
@@ -53,10 +57,6 @@ from optraj.validation import (
     as_vector,
     ndim_of,
 )
-from problems.pool_strike import POOL_BALL_RADIUS
-from robots import Robot
-from robots.loading import urdf_model
-from robots.paddle_ik import BALL_OFFSET
 
 __all__ = [
     "KINEMATIC_TOOL_MASS",
@@ -311,7 +311,7 @@ class StrikeScene:
         return self._world(model, offset)
 
     def _arm_spec(self) -> mujoco.MjSpec:
-        urdf = resources.files("robots") / "urdf" / f"{self.robot.name}.urdf"
+        urdf = resources.files("optraj.robots") / "urdf" / f"{self.robot.name}.urdf"
         with resources.as_file(urdf) as path:
             spec = mujoco.MjSpec.from_file(str(path))
         spec.compiler.fusestatic = False  # keep the tool's parent body (e.g. right_hand)
@@ -546,8 +546,8 @@ def scene_for(problem: object, **options: object) -> StrikeScene:
     Raises:
         InvalidInputError: Another kind of problem.
     """
-    from problems.paddle_strike import PaddleStrike
-    from problems.pool_strike import PoolStrike
+    from optraj.problems.paddle_strike import PaddleStrike
+    from optraj.problems.pool_strike import PoolStrike
 
     if isinstance(problem, PoolStrike):
         return pool_scene(problem.robot, problem.ball, **options)

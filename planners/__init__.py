@@ -3,30 +3,30 @@
 Every planner has ``plan(problem) -> Trajectory``; :func:`check` judges any trajectory
 against a robot's limits and a problem's constraints, independently of the planner.
 
->>> import planners, problems
+>>> from optraj import planners, problems
 >>> problem = problems.seed_paddle_strike()
 >>> traj = planners.Cubic().plan(problem)
 >>> planners.check(traj, problem, quantities=("position", "velocity", "acceleration")).ok
 True
 """
 
-from planners.base import JointProfile, Planner
-from planners.cartesian import CartesianStraightLine, LinearTrajectory, follow_tool_path
-from planners.checker import Finding, Report, check
-from planners.classic_strike import ClassicStrike
-from planners.contact import ContactChoice, choose_contact, contact_choices, contact_near
-from planners.lower_bound import lower_bound
-from planners.lspb import LSPB
-from planners.optimal_control import OptimalControl, OptimalControlProblem
-from planners.ruckig_planner import OnlineRuckig, Ruckig
-from planners.seed_strike import SeedStrike
-from planners.sequencer import PickAndPlacePlanner
-from planners.strike import TimeOptimalStrike
-from planners.time_scaling import Cubic, Quintic
-from planners.toppra_planner import Toppra
-from planners.trajectory import Phase, Trajectory, TrajectorySample
-from planners.via_points import ViaPoints
-from planners.window_check import WindowCheck, WindowRatio
+from optraj.planners.base import JointProfile, Planner
+from optraj.planners.cartesian import CartesianStraightLine, LinearTrajectory, follow_tool_path
+from optraj.planners.checker import Finding, Report, check
+from optraj.planners.classic_strike import ClassicStrike
+from optraj.planners.contact import ContactChoice, choose_contact, contact_choices, contact_near
+from optraj.planners.lower_bound import lower_bound
+from optraj.planners.lspb import LSPB
+from optraj.planners.optimal_control import OptimalControl, OptimalControlProblem
+from optraj.planners.ruckig_planner import OnlineRuckig, Ruckig
+from optraj.planners.seed_strike import SeedStrike
+from optraj.planners.sequencer import PickAndPlacePlanner
+from optraj.planners.strike import TimeOptimalStrike
+from optraj.planners.time_scaling import Cubic, Quintic
+from optraj.planners.toppra_planner import Toppra
+from optraj.planners.trajectory import Phase, Trajectory, TrajectorySample
+from optraj.planners.via_points import ViaPoints
+from optraj.planners.window_check import WindowCheck, WindowRatio
 
 __all__ = [
     "LSPB",

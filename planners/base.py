@@ -17,11 +17,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from optraj.errors import InvalidInputError
+from optraj.planners.trajectory import Phase, Trajectory
+from optraj.problems import PointToPoint
+from optraj.problems.point_to_point import is_still, still_error
+from optraj.robots import JointLimits
 from optraj.validation import as_duration, as_vector
-from planners.trajectory import Phase, Trajectory
-from problems import PointToPoint
-from problems.point_to_point import is_still, still_error
-from robots import JointLimits
 
 __all__ = ["CompiledCache", "JointProfile", "Planner", "rest_to_rest_inputs", "stamp"]
 

@@ -32,6 +32,13 @@ from optraj.errors import (
     UnknownNameError,
     UnreachableError,
 )
+from optraj.planners.base import stamp
+from optraj.planners.checker import Report, check
+from optraj.planners.trajectory import Phase, Trajectory
+from optraj.problems import CartesianLine, PaddleStrike
+from optraj.problems.common import MAX_TOOL_SPEED
+from optraj.robots import JointLimits, Robot, solve_ik
+from optraj.robots.paddle_ik import BALL_OFFSET
 from optraj.validation import (
     as_array,
     as_choice,
@@ -41,13 +48,6 @@ from optraj.validation import (
     as_vector,
     ndim_of,
 )
-from planners.base import stamp
-from planners.checker import Report, check
-from planners.trajectory import Phase, Trajectory
-from problems import CartesianLine, PaddleStrike
-from problems.common import MAX_TOOL_SPEED
-from robots import JointLimits, Robot, solve_ik
-from robots.paddle_ik import BALL_OFFSET
 
 __all__ = [
     "MAX_IK_SAMPLES",

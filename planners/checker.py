@@ -42,9 +42,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, UnknownNameError
-from optraj.validation import as_choice, as_flag, as_number, as_positive, as_vector
-from planners.trajectory import MAX_RATE, TIME_TOLERANCE, Phase, Trajectory, sampling_rate
-from problems.constraints import (
+from optraj.planners.trajectory import MAX_RATE, TIME_TOLERANCE, Phase, Trajectory, sampling_rate
+from optraj.problems.constraints import (
     BoundaryState,
     Constraint,
     StrikeLine,
@@ -52,7 +51,8 @@ from problems.constraints import (
     ToolPath,
     ViaPoint,
 )
-from robots import JointLimits, Robot
+from optraj.robots import JointLimits, Robot
+from optraj.validation import as_choice, as_flag, as_number, as_positive, as_vector
 
 __all__ = [
     "ABSOLUTE_SLACK",

@@ -48,22 +48,22 @@ import numpy as np
 from numpy.typing import NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError
-from optraj.validation import as_choice, as_count
-from planners.base import stamp
-from planners.cartesian import MAX_IK_SAMPLES
-from planners.lspb import LSPB
-from planners.strike import check_contact, check_line, contact_configuration, strike_line
-from planners.time_scaling import (
+from optraj.planners.base import stamp
+from optraj.planners.cartesian import MAX_IK_SAMPLES
+from optraj.planners.lspb import LSPB
+from optraj.planners.strike import check_contact, check_line, contact_configuration, strike_line
+from optraj.planners.time_scaling import (
     cubic_coefficients,
     polynomial_peaks,
     quintic_coefficients,
     rate_limit_error,
     worst_rate_limit,
 )
-from planners.trajectory import Trajectory, TrajectorySample
-from problems import PoolStrike
-from problems.point_to_point import is_still
-from robots import JointLimits
+from optraj.planners.trajectory import Trajectory, TrajectorySample
+from optraj.problems import PoolStrike
+from optraj.problems.point_to_point import is_still
+from optraj.robots import JointLimits
+from optraj.validation import as_choice, as_count
 
 __all__ = ["PROFILES", "ClassicStrike", "shortest_duration"]
 

@@ -46,12 +46,12 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import CONTACT_CHOICE, InfeasibleError, InvalidInputError, SolverError
+from optraj.problems import PaddleStrike, PoolStrike
+from optraj.problems.common import MAX_TOOL_SPEED, normal_pair, unit_vector
+from optraj.robots import JointLimits, Robot, solve_ik
+from optraj.robots.ik import LocalIK
+from optraj.robots.paddle_ik import BALL_OFFSET
 from optraj.validation import as_count, as_number, as_vector
-from problems import PaddleStrike, PoolStrike
-from problems.common import MAX_TOOL_SPEED, normal_pair, unit_vector
-from robots import JointLimits, Robot, solve_ik
-from robots.ik import LocalIK
-from robots.paddle_ik import BALL_OFFSET
 
 __all__ = [
     "BRANCH_SPREAD",

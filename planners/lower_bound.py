@@ -31,11 +31,11 @@ import ruckig
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError
+from optraj.planners.checker import ABSOLUTE_SLACK, RELATIVE_SLACK
+from optraj.planners.ruckig_planner import _calculate, _check_state, _input, _limits, _optional
+from optraj.problems import PointToPoint
+from optraj.robots import JointLimits, Robot
 from optraj.validation import as_array, as_vector, ndim_of
-from planners.checker import ABSOLUTE_SLACK, RELATIVE_SLACK
-from planners.ruckig_planner import _calculate, _check_state, _input, _limits, _optional
-from problems import PointToPoint
-from robots import JointLimits, Robot
 
 __all__ = ["check_state_torques", "joint_min_durations", "lower_bound", "lower_bound_va"]
 

@@ -29,6 +29,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError
+from optraj.planners.base import JointProfile, rest_to_rest_inputs, stamp
+from optraj.planners.trajectory import Trajectory
+from optraj.robots import JointLimits
 from optraj.validation import (
     MAX_DURATION,
     MIN_DURATION,
@@ -37,9 +40,6 @@ from optraj.validation import (
     as_flag,
     as_number,
 )
-from planners.base import JointProfile, rest_to_rest_inputs, stamp
-from planners.trajectory import Trajectory
-from robots import JointLimits
 
 __all__ = [
     "LSPB",

@@ -169,19 +169,9 @@ from optraj.errors import (
     SolverError,
     UnreachableError,
 )
-from optraj.validation import (
-    MAX_DURATION,
-    as_choice,
-    as_count,
-    as_duration,
-    as_flag,
-    as_number,
-    as_positive,
-    as_vector,
-)
-from planners.base import CompiledCache, stamp
-from planners.checker import RELATIVE_SLACK
-from planners.contact import (
+from optraj.planners.base import CompiledCache, stamp
+from optraj.planners.checker import RELATIVE_SLACK
+from optraj.planners.contact import (
     BRANCH_SPREAD,
     HEADROOM,
     MAX_CANDIDATES,
@@ -190,12 +180,12 @@ from planners.contact import (
     contact_choices,
     contact_near,
 )
-from planners.lower_bound import check_state_torques, joint_min_durations
-from planners.ruckig_planner import state_to_state, stop
-from planners.strike import strike_line
-from planners.time_scaling import quintic_coefficients
-from planners.trajectory import Phase, Trajectory
-from planners.transcription import (
+from optraj.planners.lower_bound import check_state_torques, joint_min_durations
+from optraj.planners.ruckig_planner import state_to_state, stop
+from optraj.planners.strike import strike_line
+from optraj.planners.time_scaling import quintic_coefficients
+from optraj.planners.trajectory import Phase, Trajectory
+from optraj.planners.transcription import (
     TORQUE_ROWS,
     CompiledNLP,
     Layout,
@@ -209,11 +199,21 @@ from planners.transcription import (
     time_left,
     torque_linearization,
 )
-from planners.window_check import WindowCheck, WindowRatio
-from problems import PaddleStrike, PointToPoint, PoolStrike, Waypoints
-from problems.common import normal_pair
-from robots import JointLimits, Robot, SymbolicModel
-from robots.paddle_ik import BALL_OFFSET
+from optraj.planners.window_check import WindowCheck, WindowRatio
+from optraj.problems import PaddleStrike, PointToPoint, PoolStrike, Waypoints
+from optraj.problems.common import normal_pair
+from optraj.robots import JointLimits, Robot, SymbolicModel
+from optraj.robots.paddle_ik import BALL_OFFSET
+from optraj.validation import (
+    MAX_DURATION,
+    as_choice,
+    as_count,
+    as_duration,
+    as_flag,
+    as_number,
+    as_positive,
+    as_vector,
+)
 
 __all__ = [
     "BUDGET_SPENT",

@@ -18,9 +18,9 @@ import pinocchio as pin
 from numpy.typing import NDArray
 
 from optraj.errors import InvalidInputError, MissingDependencyError
+from optraj.planners.trajectory import Trajectory
+from optraj.robots import JointLimits, Robot
 from optraj.validation import as_choice, as_count
-from planners.trajectory import Trajectory
-from robots import JointLimits, Robot
 
 __all__ = ["joint_origins", "plot_profiles", "plot_robot", "plot_tool_speed", "pyplot"]
 

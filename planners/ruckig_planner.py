@@ -50,18 +50,18 @@ import ruckig
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError, SolverError, UnknownNameError
-from optraj.validation import as_duration, as_flag, as_vector
-from planners.base import JointProfile, rest_to_rest_inputs
-from planners.checker import (
+from optraj.planners.base import JointProfile, rest_to_rest_inputs
+from optraj.planners.checker import (
     ABSOLUTE_SLACK,
     RELATIVE_SLACK,
     TIME_ROUND_OFF,
     round_off,
     state_allowance,
 )
-from planners.trajectory import Phase, Trajectory
-from problems import PointToPoint
-from robots import JointLimits
+from optraj.planners.trajectory import Phase, Trajectory
+from optraj.problems import PointToPoint
+from optraj.robots import JointLimits
+from optraj.validation import as_duration, as_flag, as_vector
 
 __all__ = [
     "SYNCHRONIZATIONS",

@@ -14,14 +14,14 @@ import time
 import numpy as np
 
 from optraj.errors import InvalidInputError
+from optraj.planners.base import stamp
+from optraj.planners.cartesian import MAX_IK_SAMPLES, LinearTrajectory
+from optraj.planners.time_scaling import Cubic
+from optraj.planners.trajectory import Trajectory
+from optraj.problems import PoolStrike
+from optraj.problems.point_to_point import is_still
+from optraj.robots import solve_ik
 from optraj.validation import as_count, as_duration
-from planners.base import stamp
-from planners.cartesian import MAX_IK_SAMPLES, LinearTrajectory
-from planners.time_scaling import Cubic
-from planners.trajectory import Trajectory
-from problems import PoolStrike
-from problems.point_to_point import is_still
-from robots import solve_ik
 
 __all__ = ["SeedStrike"]
 

@@ -7,11 +7,11 @@ import time
 import numpy as np
 
 from optraj.errors import InvalidInputError
-from planners.base import JointProfile, stamp
-from planners.time_scaling import Quintic
-from planners.trajectory import Trajectory
-from problems import PickAndPlace
-from problems.point_to_point import is_still
+from optraj.planners.base import JointProfile, stamp
+from optraj.planners.time_scaling import Quintic
+from optraj.planners.trajectory import Trajectory
+from optraj.problems import PickAndPlace
+from optraj.problems.point_to_point import is_still
 
 __all__ = ["PickAndPlacePlanner"]
 

@@ -26,16 +26,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError, UnreachableError
+from optraj.planners.base import stamp
+from optraj.planners.cartesian import follow_tool_path, limit_report, paddle_contact_velocity
+from optraj.planners.contact import choose_contact
+from optraj.planners.ruckig_planner import state_to_state, stop
+from optraj.planners.time_scaling import rate_limit_error, worst_rate_limit
+from optraj.planners.toppra_planner import Toppra
+from optraj.planners.trajectory import Trajectory, TrajectorySample
+from optraj.problems import PaddleStrike, PoolStrike
+from optraj.robots import JointLimits, Robot, solve_ik
 from optraj.validation import as_choice, as_count, as_number, as_vector
-from planners.base import stamp
-from planners.cartesian import follow_tool_path, limit_report, paddle_contact_velocity
-from planners.contact import choose_contact
-from planners.ruckig_planner import state_to_state, stop
-from planners.time_scaling import rate_limit_error, worst_rate_limit
-from planners.toppra_planner import Toppra
-from planners.trajectory import Trajectory, TrajectorySample
-from problems import PaddleStrike, PoolStrike
-from robots import JointLimits, Robot, solve_ik
 
 __all__ = [
     "CONTACTS",

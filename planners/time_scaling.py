@@ -15,12 +15,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError
+from optraj.planners.base import JointProfile, rest_to_rest_inputs, stamp
+from optraj.planners.cartesian import paddle_contact_velocity
+from optraj.planners.trajectory import Phase, Trajectory
+from optraj.problems import PaddleStrike, PointToPoint
+from optraj.robots import JointLimits
 from optraj.validation import MIN_DURATION, as_duration
-from planners.base import JointProfile, rest_to_rest_inputs, stamp
-from planners.cartesian import paddle_contact_velocity
-from planners.trajectory import Phase, Trajectory
-from problems import PaddleStrike, PointToPoint
-from robots import JointLimits
 
 __all__ = [
     "Cubic",
@@ -470,7 +470,7 @@ def profile_by_name(name: str) -> JointProfile:
     if name == "quintic":
         return Quintic()
     if name == "lspb":
-        from planners.lspb import LSPB
+        from optraj.planners.lspb import LSPB
 
         return LSPB()
     raise UnknownNameError("profile", name, ["cubic", "quintic", "lspb"])

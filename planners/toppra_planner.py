@@ -90,6 +90,12 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError, JointLimitError, SolverError
+from optraj.planners.base import stamp
+from optraj.planners.trajectory import Phase, Trajectory
+from optraj.problems import PointToPoint, Waypoints
+from optraj.problems.common import MAX_TOOL_SPEED
+from optraj.problems.point_to_point import STILL_TOLERANCE, still_error
+from optraj.robots import JointLimits, Robot
 from optraj.validation import (
     MIN_DURATION,
     as_array,
@@ -98,12 +104,6 @@ from optraj.validation import (
     as_number,
     as_positive,
 )
-from planners.base import stamp
-from planners.trajectory import Phase, Trajectory
-from problems import PointToPoint, Waypoints
-from problems.common import MAX_TOOL_SPEED
-from problems.point_to_point import STILL_TOLERANCE, still_error
-from robots import JointLimits, Robot
 
 __all__ = [
     "MARGIN",
@@ -157,7 +157,7 @@ def _lib() -> SimpleNamespace:
     """Import toppra and scipy on first use and define the classes derived from toppra's.
 
     Importing toppra imports matplotlib.pyplot and scipy.interpolate (about 0.7 s), so it is
-    deferred to the first plan and ``import planners`` stays fast.
+    deferred to the first plan and ``from optraj import planners`` stays fast.
     """
     import toppra
     import toppra.algorithm

@@ -65,8 +65,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from optraj.errors import UnknownNameError
+from optraj.robots import JointLimits, SymbolicModel
 from optraj.validation import as_choice, as_vector, ndim_of
-from robots import JointLimits, SymbolicModel
 
 __all__ = [
     "PARAMETERS",

@@ -40,11 +40,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError
+from optraj.planners.base import stamp
+from optraj.planners.trajectory import Phase, Trajectory
+from optraj.problems import Waypoints
+from optraj.robots import JointLimits
 from optraj.validation import as_choice, as_duration
-from planners.base import stamp
-from planners.trajectory import Phase, Trajectory
-from problems import Waypoints
-from robots import JointLimits
 
 __all__ = ["PROFILES", "ViaPoints"]
 

@@ -67,13 +67,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, SolverError
+from optraj.planners.base import CompiledCache
+from optraj.planners.strike import strike_line
+from optraj.planners.transcription import Rows, jerk_step, strike_node_rows, structure_limits
+from optraj.problems import PoolStrike
+from optraj.problems.common import normal_pair
+from optraj.robots import JointLimits, Robot, SymbolicModel
 from optraj.validation import as_count, as_vector
-from planners.base import CompiledCache
-from planners.strike import strike_line
-from planners.transcription import Rows, jerk_step, strike_node_rows, structure_limits
-from problems import PoolStrike
-from problems.common import normal_pair
-from robots import JointLimits, Robot, SymbolicModel
 
 __all__ = ["WINDOW_INTERVALS", "WindowCheck", "WindowRatio", "run_out"]
 

@@ -4,8 +4,8 @@ Problems are frozen dataclasses validated when built; ``constraints()`` lists wh
 trajectory must satisfy besides the joint limits, for the independent checker.
 """
 
-from problems.cartesian_line import CartesianLine
-from problems.constraints import (
+from optraj.problems.cartesian_line import CartesianLine
+from optraj.problems.constraints import (
     BoundaryState,
     Constraint,
     StrikeLine,
@@ -13,12 +13,12 @@ from problems.constraints import (
     ToolPath,
     ViaPoint,
 )
-from problems.paddle_strike import PaddleStrike
-from problems.pick_and_place import PickAndPlace
-from problems.point_to_point import PointToPoint
-from problems.pool_strike import POOL_BALL_RADIUS, PoolStrike
-from problems.scenarios import sawyer_pool_shot, seed_paddle_strike, youbot_two_blocks
-from problems.waypoints import Waypoints
+from optraj.problems.paddle_strike import PaddleStrike
+from optraj.problems.pick_and_place import PickAndPlace
+from optraj.problems.point_to_point import PointToPoint
+from optraj.problems.pool_strike import POOL_BALL_RADIUS, PoolStrike
+from optraj.problems.scenarios import sawyer_pool_shot, seed_paddle_strike, youbot_two_blocks
+from optraj.problems.waypoints import Waypoints
 
 __all__ = [
     "POOL_BALL_RADIUS",

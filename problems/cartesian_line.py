@@ -8,17 +8,17 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from optraj.errors import InvalidInputError
-from optraj.validation import as_duration, as_transform, as_vector
-from problems.common import (
+from optraj.problems.common import (
     MAX_TOOL_SPEED,
     check_robot,
     positive,
     positive_fields,
     resolve_limits,
 )
-from problems.constraints import BoundaryState, Constraint, ToolPath
-from problems.point_to_point import STILL_TOLERANCE, still_error
-from robots import JointLimits, Robot, solve_ik
+from optraj.problems.constraints import BoundaryState, Constraint, ToolPath
+from optraj.problems.point_to_point import STILL_TOLERANCE, still_error
+from optraj.robots import JointLimits, Robot, solve_ik
+from optraj.validation import as_duration, as_transform, as_vector
 
 __all__ = ["CartesianLine"]
 

@@ -6,8 +6,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, JointLimitError
+from optraj.robots import JointLimits, Robot
 from optraj.validation import as_number, as_positive, as_vector
-from robots import JointLimits, Robot
 
 __all__ = [
     "MAX_TOOL_SPEED",

@@ -7,8 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from optraj.validation import as_duration, as_number, as_vector
-from problems.common import (
+from optraj.problems.common import (
     MAX_TOOL_SPEED,
     check_robot,
     joint_state,
@@ -16,9 +15,10 @@ from problems.common import (
     positive_fields,
     resolve_limits,
 )
-from problems.constraints import BoundaryState, Constraint, ToolContact
-from robots import JointLimits, Robot, paddle4_ik
-from robots.paddle_ik import BALL_OFFSET
+from optraj.problems.constraints import BoundaryState, Constraint, ToolContact
+from optraj.robots import JointLimits, Robot, paddle4_ik
+from optraj.robots.paddle_ik import BALL_OFFSET
+from optraj.validation import as_duration, as_number, as_vector
 
 __all__ = ["PaddleStrike"]
 

@@ -8,10 +8,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from optraj.errors import InvalidInputError, UnreachableError
+from optraj.problems.common import check_robot, joint_state, positive, resolve_limits, unit_vector
+from optraj.problems.constraints import BoundaryState, Constraint, ToolContact
+from optraj.robots import JointLimits, Robot, solve_ik
 from optraj.validation import as_array, as_duration, as_vector
-from problems.common import check_robot, joint_state, positive, resolve_limits, unit_vector
-from problems.constraints import BoundaryState, Constraint, ToolContact
-from robots import JointLimits, Robot, solve_ik
 
 __all__ = ["PHASES", "PickAndPlace"]
 

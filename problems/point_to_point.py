@@ -8,10 +8,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from optraj.errors import InvalidInputError
+from optraj.problems.common import check_robot, joint_state, non_negative, resolve_limits
+from optraj.problems.constraints import BoundaryState, Constraint
+from optraj.robots import JointLimits, Robot
 from optraj.validation import as_duration, as_vector
-from problems.common import check_robot, joint_state, non_negative, resolve_limits
-from problems.constraints import BoundaryState, Constraint
-from robots import JointLimits, Robot
 
 __all__ = ["STILL_TOLERANCE", "PointToPoint", "is_still", "still_error"]
 

@@ -8,8 +8,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from optraj.errors import InvalidInputError
-from optraj.validation import as_vector
-from problems.common import (
+from optraj.problems.common import (
     MAX_TOOL_SPEED,
     check_robot,
     joint_state,
@@ -19,7 +18,7 @@ from problems.common import (
     resolve_limits,
     unit_vector,
 )
-from problems.constraints import (
+from optraj.problems.constraints import (
     STRIKE_ANGLE_TOLERANCE,
     STRIKE_POSITION_TOLERANCE,
     STRIKE_SPEED_TOLERANCE,
@@ -27,7 +26,8 @@ from problems.constraints import (
     Constraint,
     StrikeLine,
 )
-from robots import JointLimits, Robot, solve_ik
+from optraj.robots import JointLimits, Robot, solve_ik
+from optraj.validation import as_vector
 
 __all__ = ["MAX_WINDOW", "POOL_BALL_RADIUS", "PoolStrike"]
 

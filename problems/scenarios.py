@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
-import robots
+from optraj import robots
+from optraj.problems.paddle_strike import PaddleStrike
+from optraj.problems.pick_and_place import PickAndPlace
+from optraj.problems.pool_strike import PoolStrike
 from optraj.validation import as_number
-from problems.paddle_strike import PaddleStrike
-from problems.pick_and_place import PickAndPlace
-from problems.pool_strike import PoolStrike
 
 __all__ = ["sawyer_pool_shot", "seed_paddle_strike", "youbot_two_blocks"]
 

@@ -8,11 +8,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from optraj.errors import InvalidInputError
+from optraj.problems.common import check_robot, joint_state, non_negative, resolve_limits
+from optraj.problems.constraints import BoundaryState, Constraint, ViaPoint
+from optraj.problems.point_to_point import STILL_TOLERANCE, still_error
+from optraj.robots import JointLimits, Robot
 from optraj.validation import as_array, as_duration, as_vector
-from problems.common import check_robot, joint_state, non_negative, resolve_limits
-from problems.constraints import BoundaryState, Constraint, ViaPoint
-from problems.point_to_point import STILL_TOLERANCE, still_error
-from robots import JointLimits, Robot
 
 __all__ = ["Waypoints"]
 

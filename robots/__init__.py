@@ -1,16 +1,16 @@
 """Robot models: URDF files, loading, limits, kinematics, inverse kinematics, symbolic models.
 
->>> import robots
+>>> from optraj import robots
 >>> robot = robots.load("sawyer")
 >>> T_world_tool = robot.tool_pose(robot.home)
 """
 
-from robots.ik import IKSolution, solve_ik
-from robots.limits import JointLimits
-from robots.loading import known_robots, load
-from robots.paddle_ik import PADDLE4_WORKSPACE, paddle4_ik
-from robots.robot import Robot
-from robots.symbolic import SymbolicModel
+from optraj.robots.ik import IKSolution, solve_ik
+from optraj.robots.limits import JointLimits
+from optraj.robots.loading import known_robots, load
+from optraj.robots.paddle_ik import PADDLE4_WORKSPACE, paddle4_ik
+from optraj.robots.robot import Robot
+from optraj.robots.symbolic import SymbolicModel
 
 __all__ = [
     "PADDLE4_WORKSPACE",

@@ -20,8 +20,8 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, UnreachableError
+from optraj.robots.robot import Robot
 from optraj.validation import as_count, as_number, as_positive, as_transform, as_vector
-from robots.robot import Robot
 
 __all__ = ["IKSolution", "LocalIK", "solve_ik"]
 

@@ -20,9 +20,9 @@ import numpy as np
 import pinocchio as pin
 
 from optraj.errors import MissingDependencyError, UnknownNameError
+from optraj.robots.limits import JointLimits
+from optraj.robots.robot import Robot
 from optraj.validation import as_number, as_positive
-from robots.limits import JointLimits
-from robots.robot import Robot
 
 __all__ = ["known_robots", "load", "urdf_model"]
 
@@ -85,7 +85,7 @@ class _Entry:
 
 def urdf_model(name: str) -> pin.Model:
     """The Pinocchio model of a shipped URDF file as it is (no tool frame, no tool mass)."""
-    urdf = resources.files("robots") / "urdf" / f"{name}.urdf"
+    urdf = resources.files("optraj.robots") / "urdf" / f"{name}.urdf"
     with resources.as_file(urdf) as path:
         return pin.buildModelFromUrdf(str(path))
 
@@ -260,7 +260,7 @@ def load(name: str, **options: Any) -> Robot:
         InvalidInputError: An option value is out of range.
 
     Example:
-        >>> import robots
+        >>> from optraj import robots
         >>> robot = robots.load("sawyer", cue_length=0.4)
         >>> robot.tool_frame
         'cue_tip'

@@ -23,8 +23,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, WorkspaceError
+from optraj.robots.robot import Robot
 from optraj.validation import as_array, as_vector
-from robots.robot import Robot
 
 __all__ = [
     "BALL_OFFSET",

@@ -23,8 +23,8 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, UnknownNameError, UnsupportedModelError
+from optraj.robots.limits import JointLimits
 from optraj.validation import as_batch, as_vector
-from robots.limits import JointLimits
 
 __all__ = ["Robot"]
 

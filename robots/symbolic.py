@@ -44,7 +44,7 @@ import numpy.typing as npt
 import pinocchio as pin
 
 from optraj.errors import InvalidInputError, UnknownNameError, UnsupportedModelError
-from robots.robot import Robot
+from optraj.robots.robot import Robot
 
 __all__ = ["SymbolicModel"]
 

@@ -9,7 +9,7 @@ from collections.abc import Callable
 
 import pytest
 
-import robots
+from optraj import robots
 
 SHIPPED = ("paddle4", "sawyer", "youbot")
 EXTERNAL = ("panda", "ur5")
@@ -64,7 +64,7 @@ def race(worker: Callable[[int], None], threads: int) -> list[BaseException]:
 @pytest.fixture(scope="session")
 def pool_shot():
     """The README's Sawyer pool shot at 1 m/s."""
-    import problems
+    from optraj import problems
 
     return problems.sawyer_pool_shot(speed=1.0)
 
@@ -74,7 +74,7 @@ def pool_plan(pool_shot):
     """Its minimum-time strike planned within 80 % of the limits: room for feedback."""
     import dataclasses
 
-    import planners
+    from optraj import planners
 
     room = dataclasses.replace(pool_shot, limits=pool_shot.robot.limits.scaled(0.8))
     return planners.OptimalControl("time").plan(room)

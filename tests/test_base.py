@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 from conftest import get_robot
 
-import problems
+from optraj import problems
 from optraj.errors import InvalidInputError
-from planners.base import JointProfile, Planner
-from planners.time_scaling import Cubic, Quintic
+from optraj.planners.base import JointProfile, Planner
+from optraj.planners.time_scaling import Cubic, Quintic
 
 
 def test_profiles_are_planners_and_stamp_metadata():

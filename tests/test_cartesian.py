@@ -9,8 +9,7 @@ import pinocchio as pin
 import pytest
 from conftest import get_robot
 
-import problems
-import robots
+from optraj import problems, robots
 from optraj.errors import (
     InfeasibleError,
     InvalidInputError,
@@ -18,13 +17,13 @@ from optraj.errors import (
     PathJumpWarning,
     UnknownNameError,
 )
-from planners.cartesian import (
+from optraj.planners.cartesian import (
     CartesianStraightLine,
     LinearTrajectory,
     follow_tool_path,
     path_scaling,
 )
-from planners.checker import check
+from optraj.planners.checker import check
 
 
 def _line_problem(seed: int, **kwargs):

@@ -7,7 +7,7 @@ import pytest
 from conftest import get_robot
 
 from optraj.errors import InvalidInputError, UnreachableError
-from problems import BoundaryState, CartesianLine, ToolPath
+from optraj.problems import BoundaryState, CartesianLine, ToolPath
 
 
 def test_start_configuration_found_by_ik_and_constraints():

@@ -5,8 +5,8 @@ import pytest
 from conftest import get_robot
 from scipy.spatial.transform import Rotation
 
-from controllers.cartesian_pid import TASKS, CartesianPID, tool_kinematics
-from controllers.controller import Reference
+from optraj.controllers.cartesian_pid import TASKS, CartesianPID, tool_kinematics
+from optraj.controllers.controller import Reference
 from optraj.errors import InvalidInputError, UnknownNameError
 
 DT = 1e-3

@@ -18,11 +18,11 @@ import pinocchio as pin
 import pytest
 from conftest import get_robot
 
-import problems
+from optraj import problems
 from optraj.errors import InvalidInputError, UnknownNameError
-from planners.checker import QUANTITIES, Finding, Report, check
-from planners.trajectory import Phase, Trajectory
-from problems import (
+from optraj.planners.checker import QUANTITIES, Finding, Report, check
+from optraj.planners.trajectory import Phase, Trajectory
+from optraj.problems import (
     BoundaryState,
     CartesianLine,
     PaddleStrike,
@@ -31,7 +31,7 @@ from problems import (
     ToolContact,
     Waypoints,
 )
-from robots import JointLimits, Robot, solve_ik
+from optraj.robots import JointLimits, Robot, solve_ik
 
 SQRT3 = math.sqrt(3.0)
 #: Start and move of the paddle4 quintic [m, rad, m, rad]; joint J3 is index 2.
@@ -892,7 +892,7 @@ def test_three_second_sawyer_check_is_fast(sawyer, pool_shot):
 def test_a_tool_speed_cap_is_verified_over_the_trajectory_and_a_tool_path():
     # The checker could not verify the cap that Toppra(tool_speed=...) and CartesianLine(speed=)
     # promise.
-    from planners import CartesianStraightLine, Toppra
+    from optraj.planners import CartesianStraightLine, Toppra
 
     robot = get_robot("sawyer")
     move = problems.PointToPoint(robot, q_start=robot.home, q_goal=robot.home + 0.4)

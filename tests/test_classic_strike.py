@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import problems
+from optraj import problems
 from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError
-from planners.checker import check
-from planners.classic_strike import PROFILES, ClassicStrike, shortest_duration
-from planners.time_scaling import cubic_coefficients, quintic_coefficients
-from planners.trajectory import Trajectory
+from optraj.planners.checker import check
+from optraj.planners.classic_strike import PROFILES, ClassicStrike, shortest_duration
+from optraj.planners.time_scaling import cubic_coefficients, quintic_coefficients
+from optraj.planners.trajectory import Trajectory
 
 STRIKE = ("strike window", "strike position", "strike speed", "strike axis", "contact")
 BASIC = ("position", "velocity", "acceleration")

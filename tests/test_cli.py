@@ -14,8 +14,7 @@ from conftest import get_robot
 
 import optraj.cli
 import optraj.demo
-import planners
-import problems
+from optraj import planners, problems
 from optraj.cli import main
 
 HAVE_MATPLOTLIB = True
@@ -404,7 +403,7 @@ def _with_options(data: dict, **options) -> dict:
 
 
 def test_check_refuses_a_bad_rate_and_an_oversized_file(tmp_path, monkeypatch, capsys):
-    import planners.trajectory
+    from optraj import planners
 
     monkeypatch.chdir(tmp_path)
     _point_to_point_file(Path("t.json"))

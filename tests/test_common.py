@@ -7,7 +7,7 @@ import pytest
 from conftest import get_robot
 
 from optraj.errors import InvalidInputError, JointLimitError
-from problems.common import (
+from optraj.problems.common import (
     MAX_TOOL_SPEED,
     check_robot,
     joint_state,

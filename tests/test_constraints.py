@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from problems.constraints import StrikeLine, ToolContact
+from optraj.problems.constraints import StrikeLine, ToolContact
 
 
 def test_strike_defaults_are_tighter_than_a_half_degree_shot_needs():

@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 from scipy.linalg import null_space
 from scipy.optimize import linprog
 
-import problems
+from optraj import problems
 from optraj.errors import (
     CONTACT_CHOICE,
     InfeasibleError,
@@ -29,8 +29,8 @@ from optraj.errors import (
     JointLimitError,
     UnreachableError,
 )
-from planners.cartesian import paddle_contact_velocity
-from planners.contact import (
+from optraj.planners.cartesian import paddle_contact_velocity
+from optraj.planners.contact import (
     ContactChoice,
     _MinMaxRatio,
     choose_contact,
@@ -39,8 +39,8 @@ from planners.contact import (
     stopping_speeds,
     twist_ratio,
 )
-from robots import solve_ik
-from robots.paddle_ik import BALL_OFFSET
+from optraj.robots import solve_ik
+from optraj.robots.paddle_ik import BALL_OFFSET
 
 #: Largest joint change [rad] expected between a branch's contact configurations for balls
 #: 2 cm apart (contact_choices counts choices more than 0.1 rad apart as other branches).
@@ -722,7 +722,7 @@ def test_contact_choices_are_distinct_branches_led_by_the_chosen_one():
 
 
 def test_turn_estimate_matches_its_formula_and_ranks_cornered_contacts_last():
-    from planners.contact import _PoolSearch
+    from optraj.planners.contact import _PoolSearch
 
     checked = 0
     for problem in _shots(6, speed=1.0, seed=31):
@@ -739,7 +739,7 @@ def test_turn_estimate_matches_its_formula_and_ranks_cornered_contacts_last():
 
 
 def test_a_joint_leaving_a_limit_it_sits_on_has_no_room_to_turn():
-    from planners.contact import _PoolSearch
+    from optraj.planners.contact import _PoolSearch
 
     problem = next(_shots(1, speed=1.0, seed=32))
     search = _PoolSearch(problem)

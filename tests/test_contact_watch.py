@@ -2,8 +2,7 @@ import mujoco
 import numpy as np
 import pytest
 
-import physics
-import problems
+from optraj import physics, problems
 
 
 @pytest.fixture(scope="module")

@@ -6,7 +6,7 @@ import pytest
 from conftest import get_robot
 from scipy.spatial.transform import Rotation
 
-from controllers.controller import (
+from optraj.controllers.controller import (
     Command,
     Controller,
     Reference,
@@ -18,7 +18,7 @@ from controllers.controller import (
     sample_references,
 )
 from optraj.errors import InvalidInputError
-from planners.trajectory import Phase, Trajectory
+from optraj.planners.trajectory import Phase, Trajectory
 
 SAWYER_STEP = np.array([0.25, -0.2, 0.3, 0.15, -0.3, 0.2, 0.4])
 PADDLE_STEP = np.array([0.2, 0.5, 0.3, -0.4])

@@ -7,8 +7,7 @@ import sys
 
 from conftest import get_robot
 
-import planners
-import problems
+from optraj import planners, problems
 from optraj.demo import Progress, short_reason, write_plots
 from optraj.errors import InvalidInputError
 

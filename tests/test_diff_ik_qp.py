@@ -7,10 +7,10 @@ import pytest
 from conftest import get_robot
 from scipy.optimize import lsq_linear
 
-from controllers import diff_ik_qp
-from controllers.controller import Reference, State
-from controllers.diff_ik_qp import DiffIKQP
-from controllers.qp_terms import Constraint, task_weights
+from optraj.controllers import diff_ik_qp
+from optraj.controllers.controller import Reference, State
+from optraj.controllers.diff_ik_qp import DiffIKQP
+from optraj.controllers.qp_terms import Constraint, task_weights
 from optraj.errors import InvalidInputError, UnknownNameError
 
 DT = 1e-3

@@ -12,15 +12,12 @@ import pinocchio as pin
 import pytest
 from conftest import get_robot
 
-import controllers
-import planners
-import problems
-import robots
-from controllers.controller import Reference, State
-from controllers.diff_ik_qp import DiffIKQP, _ActiveSet
-from controllers.fused_step import FusedStep, _solve_on_set
-from controllers.qp_terms import QP, identity
-from controllers.simulation import Noise, simulate
+from optraj import controllers, planners, problems, robots
+from optraj.controllers.controller import Reference, State
+from optraj.controllers.diff_ik_qp import DiffIKQP, _ActiveSet
+from optraj.controllers.fused_step import FusedStep, _solve_on_set
+from optraj.controllers.qp_terms import QP, identity
+from optraj.controllers.simulation import Noise, simulate
 from optraj.errors import CompilerError, UnknownNameError, UnsupportedModelError
 
 DT = 1e-3

@@ -7,9 +7,9 @@ import pytest
 from conftest import ALL_ROBOTS, get_robot
 
 from optraj.errors import InvalidInputError, UnknownNameError, UnreachableError
-from robots import ik as ik_module
-from robots import solve_ik
-from robots.ik import LocalIK, _levenberg_marquardt, _levenberg_marquardt_batch, _PoseError
+from optraj.robots import ik as ik_module
+from optraj.robots import solve_ik
+from optraj.robots.ik import LocalIK, _levenberg_marquardt, _levenberg_marquardt_batch, _PoseError
 
 
 @pytest.mark.parametrize("name", ALL_ROBOTS)

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 from conftest import get_robot
 
-from controllers.controller import Command, Reference, State
-from controllers.joint_pd import JointPD
+from optraj.controllers.controller import Command, Reference, State
+from optraj.controllers.joint_pd import JointPD
 from optraj.errors import InvalidInputError
 
 

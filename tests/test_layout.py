@@ -16,14 +16,45 @@ OURS = {"optraj", *ORDER}
 
 
 def _imports(path: Path) -> set[str]:
+    """The modules of ours that ``path`` imports, named as folders: ``optraj.planners.x`` is
+    ``planners.x``; ``optraj.errors`` stays itself."""
     tree = ast.parse(path.read_text(), filename=str(path))
     names: set[str] = set()
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             names.update(alias.name for alias in node.names)
         elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
-            names.add(node.module)
-    return {name for name in names if name.split(".")[0] in OURS}
+            if node.module == "optraj":  # from optraj import planners
+                names.update(
+                    f"optraj.{alias.name}" if alias.name in ORDER else "optraj"
+                    for alias in node.names
+                )
+            else:
+                names.add(node.module)
+    return {_folder(name) for name in names if name.split(".")[0] in OURS}
+
+
+def _folder(name: str) -> str:
+    parts = name.split(".")
+    return (
+        ".".join(parts[1:]) if parts[0] == "optraj" and parts[1:2] in [[p] for p in ORDER] else name
+    )
+
+
+def test_our_packages_are_imported_under_optraj_only():
+    # The generic folder names (robots, planners, ...) are never import names: installed,
+    # they would shadow PyPI packages of the same names.
+    for folder in ["optraj", *ORDER, "tests", "benchmarks"]:
+        for path in sorted((ROOT / folder).rglob("*.py")):
+            tree = ast.parse(path.read_text(), filename=str(path))
+            for node in ast.walk(tree):
+                tops = []
+                if isinstance(node, ast.Import):
+                    tops = [alias.name.split(".")[0] for alias in node.names]
+                elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+                    tops = [node.module.split(".")[0]]
+                bare = [top for top in tops if top in ORDER]
+                assert not bare, f"{path.relative_to(ROOT)} imports {bare} outside optraj"
 
 
 def _allowed(package: str) -> set[str]:
@@ -73,7 +104,7 @@ def test_test_file_per_module():
 def test_importing_optraj_is_cheap_and_robots_is_headless():
     code = (
         "import sys, optraj; heavy = {'pinocchio', 'casadi', 'numpy'} & set(sys.modules); "
-        "assert not heavy, heavy; import robots; "
+        "assert not heavy, heavy; from optraj import robots; "
         "assert 'matplotlib' not in sys.modules, 'robots imports matplotlib'"
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)

@@ -7,9 +7,9 @@ import pickle
 import numpy as np
 import pytest
 
-import robots
+from optraj import robots
 from optraj.errors import InvalidInputError, JointLimitError, UnknownNameError
-from robots import JointLimits
+from optraj.robots import JointLimits
 
 
 def _limits(**overrides):

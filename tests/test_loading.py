@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from conftest import HAVE_ERD, get_robot
 
-import robots
+from optraj import robots
 from optraj.errors import InvalidInputError, MissingDependencyError, UnknownNameError
 
 
@@ -150,7 +150,7 @@ def test_urdf_inertials_match_the_fact_sheet(name, table):
     import xml.etree.ElementTree as ET
     from importlib import resources
 
-    root = ET.fromstring((resources.files("robots") / "urdf" / f"{name}.urdf").read_text())
+    root = ET.fromstring((resources.files("optraj.robots") / "urdf" / f"{name}.urdf").read_text())
     for link_name, (mass, com, inertia) in table.items():
         inertial = root.find(f"link[@name='{link_name}']/inertial")
         assert float(inertial.find("mass").get("value")) == mass

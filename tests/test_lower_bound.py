@@ -9,16 +9,16 @@ import numpy as np
 import pytest
 from conftest import get_robot
 
-import problems
+from optraj import problems
 from optraj.errors import InfeasibleError, InvalidInputError
-from planners.lower_bound import (
+from optraj.planners.lower_bound import (
     check_state_torques,
     joint_min_durations,
     lower_bound,
     lower_bound_va,
 )
-from planners.lspb import LSPB
-from planners.ruckig_planner import Ruckig
+from optraj.planners.lspb import LSPB
+from optraj.planners.ruckig_planner import Ruckig
 
 
 def _random_limits(robot, rng, jerk=None):

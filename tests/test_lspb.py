@@ -9,10 +9,9 @@ import numpy as np
 import pytest
 from conftest import get_robot
 
-import planners
-import problems
+from optraj import planners, problems
 from optraj.errors import InfeasibleError, InvalidInputError
-from planners.lspb import (
+from optraj.planners.lspb import (
     LSPB,
     lspb_fixed_blend,
     lspb_fixed_cruise,
@@ -20,7 +19,7 @@ from planners.lspb import (
     lspb_shortest_blend,
     lspb_trajectory,
 )
-from problems.point_to_point import is_still
+from optraj.problems.point_to_point import is_still
 
 QUANTITIES = ("position", "velocity", "acceleration")
 

@@ -8,8 +8,8 @@ import pytest
 from conftest import get_robot
 from scipy.spatial.transform import Rotation
 
-from controllers.controller import sample_references
-from controllers.metrics import (
+from optraj.controllers.controller import sample_references
+from optraj.controllers.metrics import (
     VIOLATION_SLACK,
     Metrics,
     StrikeMetrics,
@@ -17,7 +17,7 @@ from controllers.metrics import (
     tracking_metrics,
     violation,
 )
-from planners.trajectory import Phase, Trajectory
+from optraj.planners.trajectory import Phase, Trajectory
 
 SAWYER_STEP = np.array([0.25, -0.2, 0.3, 0.15, -0.3, 0.2, 0.4])
 STRIKE = (0.605, 1.395)  # between grid points, so the window is 0.61 .. 1.39 s

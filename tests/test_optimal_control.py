@@ -12,10 +12,9 @@ import numpy as np
 import pytest
 from conftest import get_robot
 
-import planners.optimal_control as optimal_control
-import planners.transcription as transcription
-import problems
-import robots
+import optraj.planners.optimal_control as optimal_control
+import optraj.planners.transcription as transcription
+from optraj import problems, robots
 from optraj.errors import (
     CONTACT_CHOICE,
     WINDOW_CHECK,
@@ -27,9 +26,9 @@ from optraj.errors import (
     UnknownNameError,
     UnreachableError,
 )
-from planners import Quintic, Trajectory, check, lower_bound
-from planners.contact import BRANCH_SPREAD, ContactChoice
-from planners.optimal_control import (
+from optraj.planners import Quintic, Trajectory, check, lower_bound
+from optraj.planners.contact import BRANCH_SPREAD, ContactChoice
+from optraj.planners.optimal_control import (
     BUDGET_SPENT,
     INFEASIBLE_STATUSES,
     POSITION_SHRINKS,
@@ -45,9 +44,9 @@ from planners.optimal_control import (
     _tightened,
     strike_caps,
 )
-from planners.transcription import WARM_ITERATIONS, compile_nlp
-from planners.window_check import QUANTITIES, WindowRatio
-from robots import SymbolicModel
+from optraj.planners.transcription import WARM_ITERATIONS, compile_nlp
+from optraj.planners.window_check import QUANTITIES, WindowRatio
+from optraj.robots import SymbolicModel
 
 SAWYER_SHOT = {"x": (0.65, 0.85), "y": (-0.05, 0.3), "z": (-0.1, 0.0), "heading": (-20.0, 20.0)}
 
@@ -126,7 +125,7 @@ def test_a_pool_guess_without_its_line_starts_from_the_contact_choice(monkeypatc
     def refused(*args, **kwargs):
         raise failure
 
-    monkeypatch.setattr("planners.optimal_control.strike_line", refused)
+    monkeypatch.setattr("optraj.planners.optimal_control.strike_line", refused)
     traj = OptimalControl("time").plan(problem)
     report = check(traj, problem)
     assert report.ok, report.summary()
@@ -428,7 +427,7 @@ def test_waypoints_are_passed_through():
 def test_a_via_point_plan_warm_starts_a_waypoint_problem_and_a_mismatch_says_so():
     # ViaPoints and Toppra named their phases "segment 0..", the NLP "segment 1..": the warm
     # start was dropped without a word. One naming, and a warm start that cannot be used raises.
-    from planners import ViaPoints
+    from optraj.planners import ViaPoints
 
     robot = get_robot("youbot")
     points = robot.random_configurations(4, np.random.default_rng(4))
@@ -1123,7 +1122,7 @@ def test_a_strike_grid_that_cannot_be_refined_stops_and_names_the_miss(monkeypat
     # finest allowed: one solve, then an error saying what missed, by how much.
     miss = [("speed error", 0.2, 0.05, "%")]
     monkeypatch.setattr(OptimalControl, "_strike_misses", lambda *args: miss)
-    monkeypatch.setattr("planners.optimal_control.MAX_STRIKE_INTERVALS", 1)
+    monkeypatch.setattr("optraj.planners.optimal_control.MAX_STRIKE_INTERVALS", 1)
     planner = OptimalControl(contact_retries=0)
     with pytest.raises(SolverError, match=r"after 1 rounds: speed error 0\.2 %") as info:
         planner.plan(problems.sawyer_pool_shot())

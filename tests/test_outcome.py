@@ -3,10 +3,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-import controllers
-import physics
-import planners
-import problems
+from optraj import controllers, physics, planners, problems
 from optraj.errors import InvalidInputError
 
 

@@ -9,8 +9,8 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from optraj.errors import InvalidInputError, JointLimitError, UnreachableError, WorkspaceError
-from robots import PADDLE4_WORKSPACE, paddle4_ik, solve_ik
-from robots.paddle_ik import BALL_OFFSET
+from optraj.robots import PADDLE4_WORKSPACE, paddle4_ik, solve_ik
+from optraj.robots.paddle_ik import BALL_OFFSET
 
 
 @pytest.mark.parametrize(

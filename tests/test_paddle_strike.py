@@ -7,7 +7,7 @@ import pytest
 from conftest import get_robot
 
 from optraj.errors import InvalidInputError, WorkspaceError
-from problems import PaddleStrike, ToolContact
+from optraj.problems import PaddleStrike, ToolContact
 
 
 def test_seed_defaults_and_contact_constraint():

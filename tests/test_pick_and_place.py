@@ -7,7 +7,7 @@ import pytest
 from conftest import get_robot
 
 from optraj.errors import InvalidInputError, UnreachableError
-from problems import PickAndPlace, ToolContact, youbot_two_blocks
+from optraj.problems import PickAndPlace, ToolContact, youbot_two_blocks
 
 
 def test_ik_solutions_put_the_gripper_on_each_block_and_the_pile():

@@ -1,9 +1,7 @@
 import numpy as np
 import pytest
 
-import controllers
-import physics
-import robots
+from optraj import controllers, physics, robots
 from optraj.errors import InvalidInputError
 
 FAR_BALL = (0.75, 0.15, -0.6)  # well away from anything the arm does here

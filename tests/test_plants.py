@@ -10,8 +10,8 @@ import pytest
 from conftest import get_robot
 from scipy.integrate import solve_ivp
 
-from controllers.controller import sample_references
-from controllers.plants import (
+from optraj.controllers.controller import sample_references
+from optraj.controllers.plants import (
     DynamicPlant,
     KinematicPlant,
     Plant,
@@ -19,7 +19,7 @@ from controllers.plants import (
     tool_force_to_joint_velocity,
 )
 from optraj.errors import InvalidInputError, OptrajError
-from planners.trajectory import Trajectory
+from optraj.planners.trajectory import Trajectory
 
 ROBOTS = ("sawyer", "paddle4")  # paddle4's first joint is prismatic
 

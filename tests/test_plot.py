@@ -6,12 +6,8 @@ import numpy as np
 import pytest
 from conftest import get_robot
 
-import controllers
-import physics
-import planners
-import planners.plot
-import problems
-from controllers.plot import plot_tracking
+from optraj import controllers, physics, planners, problems
+from optraj.controllers.plot import plot_tracking
 from optraj.errors import InvalidInputError, UnknownNameError
 
 matplotlib = pytest.importorskip("matplotlib")  # optraj[examples]

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 from conftest import get_robot
 
-import planners
+from optraj import planners
 from optraj.errors import InvalidInputError, JointLimitError
-from problems import BoundaryState, PointToPoint
-from problems.point_to_point import STILL_TOLERANCE, is_still
+from optraj.problems import BoundaryState, PointToPoint
+from optraj.problems.point_to_point import STILL_TOLERANCE, is_still
 
 
 def test_defaults_are_rest_and_constraints_are_the_two_states():

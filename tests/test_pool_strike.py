@@ -7,8 +7,8 @@ import pytest
 from conftest import get_robot
 
 from optraj.errors import InvalidInputError, UnreachableError
-from problems import POOL_BALL_RADIUS, PoolStrike, StrikeLine
-from problems.pool_strike import MAX_WINDOW
+from optraj.problems import POOL_BALL_RADIUS, PoolStrike, StrikeLine
+from optraj.problems.pool_strike import MAX_WINDOW
 
 
 def test_geometry_and_timing_of_the_strike():

@@ -7,8 +7,8 @@ import pytest
 from conftest import get_robot
 from scipy.spatial.transform import Rotation
 
-from controllers.controller import Command, Reference, State
-from controllers.pseudo_inverse_pid import PseudoInversePID
+from optraj.controllers.controller import Command, Reference, State
+from optraj.controllers.pseudo_inverse_pid import PseudoInversePID
 from optraj.errors import InvalidInputError, UnknownNameError
 
 DT = 1e-3

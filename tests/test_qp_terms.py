@@ -3,7 +3,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from controllers.qp_terms import (
+from optraj.controllers.qp_terms import (
     Bounds,
     Constraint,
     Objective,

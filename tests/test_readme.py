@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import robots
+from optraj import robots
 from optraj.errors import UnknownNameError, WorkspaceError
 
 README = (Path(__file__).resolve().parents[1] / "README.md").read_text()

@@ -3,10 +3,9 @@ import math
 import numpy as np
 import pytest
 
-import physics
-import problems
+from optraj import physics, problems
 from optraj.errors import InvalidInputError
-from physics.scene import CUE_TIP_RADIUS, POOL_BALL_MASS, POOL_BALL_RADIUS
+from optraj.physics.scene import CUE_TIP_RADIUS, POOL_BALL_MASS, POOL_BALL_RADIUS
 
 
 @pytest.fixture(scope="module")

@@ -136,7 +136,7 @@ def test_paddle4_home_is_seed_home_pose():
 
 
 def test_sawyer_cue_tip_lies_on_flange_z_axis():
-    import robots
+    from optraj import robots
 
     robot = robots.load("sawyer", cue_length=0.45)
     q = np.array(SAWYER_NEUTRAL)
@@ -299,7 +299,7 @@ def test_kinematics_are_thread_safe():
 
 
 def test_fingerprint_tells_models_apart_not_names():
-    import robots
+    from optraj import robots
 
     default, again = robots.load("sawyer"), robots.load("sawyer")
     assert (

@@ -13,7 +13,7 @@ import pytest
 import ruckig
 from conftest import HAVE_ERD, get_robot
 
-import problems
+from optraj import problems
 from optraj.errors import (
     InfeasibleError,
     InvalidInputError,
@@ -22,8 +22,8 @@ from optraj.errors import (
     SolverError,
     UnknownNameError,
 )
-from planners.checker import check
-from planners.ruckig_planner import (
+from optraj.planners.checker import check
+from optraj.planners.ruckig_planner import (
     SYNCHRONIZATIONS,
     OnlineRuckig,
     Ruckig,
@@ -37,7 +37,7 @@ from planners.ruckig_planner import (
     state_to_state,
     stop,
 )
-from planners.trajectory import Trajectory
+from optraj.planners.trajectory import Trajectory
 
 QUANTITIES = ("position", "velocity", "acceleration", "jerk")
 
@@ -342,7 +342,7 @@ def test_polynomials_are_checked_again_when_first_built():
 
 
 def test_a_plan_whose_polynomials_break_a_limit_raises_on_first_use(monkeypatch):
-    import planners.ruckig_planner as module
+    import optraj.planners.ruckig_planner as module
 
     limits = get_robot("sawyer").limits
     breach = InfeasibleError("a breach", limit="velocity", joint="right_j0")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import problems
+from optraj import problems
 from optraj.errors import InvalidInputError
 
 

@@ -3,8 +3,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-import physics
-import robots
+from optraj import physics, robots
 from optraj.errors import InvalidInputError
 
 BALL = (0.75, 0.15, -0.05)

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import problems
+from optraj import problems
 from optraj.errors import InvalidInputError
-from planners.checker import check
-from planners.seed_strike import SeedStrike
+from optraj.planners.checker import check
+from optraj.planners.seed_strike import SeedStrike
 
 
 def test_seed_strike_hits_the_line_but_needs_unbounded_acceleration():

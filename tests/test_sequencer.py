@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import pytest
 
-import problems
+from optraj import problems
 from optraj.errors import InvalidInputError
-from planners.checker import check
-from planners.sequencer import PickAndPlacePlanner
-from planners.time_scaling import Cubic, Quintic
-from problems.pick_and_place import PHASES
+from optraj.planners.checker import check
+from optraj.planners.sequencer import PickAndPlacePlanner
+from optraj.planners.time_scaling import Cubic, Quintic
+from optraj.problems.pick_and_place import PHASES
 
 
 @pytest.mark.parametrize(("profile", "quantities"), [

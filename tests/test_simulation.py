@@ -7,13 +7,10 @@ import sys
 import numpy as np
 import pytest
 
-import controllers
-import planners
-import problems
-import robots
-from controllers.controller import Command, Controller
-from controllers.plants import KinematicPlant
-from controllers.simulation import Impulse, Noise, simulate
+from optraj import controllers, planners, problems, robots
+from optraj.controllers.controller import Command, Controller
+from optraj.controllers.plants import KinematicPlant
+from optraj.controllers.simulation import Impulse, Noise, simulate
 from optraj.errors import InvalidInputError, JointLimitError, SolverError, UnknownNameError
 
 

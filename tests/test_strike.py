@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import problems
+from optraj import problems
 from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError
-from planners.checker import check
-from planners.classic_strike import ClassicStrike
-from planners.contact import choose_contact
-from planners.strike import TimeOptimalStrike, strike_line
+from optraj.planners.checker import check
+from optraj.planners.classic_strike import ClassicStrike
+from optraj.planners.contact import choose_contact
+from optraj.planners.strike import TimeOptimalStrike, strike_line
 
 ALL = ("position", "velocity", "acceleration", "jerk", "torque")
 STRIKE = ("strike window", "strike position", "strike speed", "strike axis", "contact")

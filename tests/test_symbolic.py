@@ -12,9 +12,9 @@ import pinocchio as pin
 import pytest
 from conftest import race
 
-import robots
+from optraj import robots
 from optraj.errors import InvalidInputError, UnknownNameError, UnsupportedModelError
-from robots.symbolic import SymbolicModel
+from optraj.robots.symbolic import SymbolicModel
 
 ROBOT_NAMES = ["paddle4", "sawyer", "youbot", "panda", "ur5"]
 OPTIONAL_ROBOTS = {"panda", "ur5"}  # need example-robot-data
@@ -108,7 +108,7 @@ def _load(name: str) -> tuple[pin.Model, str]:
         return _handmade_model()
     if name in OPTIONAL_ROBOTS:
         pytest.importorskip("example_robot_data")
-    import robots
+    from optraj import robots
 
     robot = robots.load(name)
     assert robot.model.getFrameId(robot.tool_frame) == robot.tool_frame_id

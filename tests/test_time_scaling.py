@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 from conftest import get_robot
 
-import problems
+from optraj import problems
 from optraj.errors import InfeasibleError, InvalidInputError
-from planners.checker import check
-from planners.time_scaling import Cubic, Quintic, cubic_coefficients, quintic_coefficients
+from optraj.planners.checker import check
+from optraj.planners.time_scaling import Cubic, Quintic, cubic_coefficients, quintic_coefficients
 
 # ECE486 seed, ball (1.1, 0.8, 0.7), T = 2 s, 5 Hz: the printed rows at t = 0.2, 0.4, 1.0, 1.8 s.
 SEED_ROWS = {

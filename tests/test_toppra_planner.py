@@ -12,12 +12,11 @@ import numpy as np
 import pytest
 from conftest import get_robot
 
-import planners
-import problems
+from optraj import planners, problems
 from optraj.errors import InfeasibleError, InvalidInputError, JointLimitError, OptrajError
-from planners.checker import check
-from planners.toppra_planner import GeometricPath, Toppra, ToppraProblem, compose
-from planners.trajectory import Phase, Trajectory
+from optraj.planners.checker import check
+from optraj.planners.toppra_planner import GeometricPath, Toppra, ToppraProblem, compose
+from optraj.planners.trajectory import Phase, Trajectory
 
 KINEMATIC = ("position", "velocity", "acceleration")
 #: Random cases of the stress test (each: plan, then the checker at 200 Hz).
@@ -569,7 +568,7 @@ def test_a_still_move_with_a_boundary_velocity_has_no_line_to_follow():
 def test_pchip_slopes_near_zero_stay_finite_without_overflow_warnings():
     import warnings
 
-    from planners.toppra_planner import GeometricPath
+    from optraj.planners.toppra_planner import GeometricPath
 
     waypoints = np.array([[0.0, 0.0], [1.0, 1e-310], [2.0, 2e-310], [3.0, 0.5]])
     with warnings.catch_warnings():

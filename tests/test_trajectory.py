@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from optraj.errors import InvalidInputError, UnknownNameError
-from planners.trajectory import Phase, Trajectory
+from optraj.planners.trajectory import Phase, Trajectory
 
 
 def _random_states(seed: int, m: int = 6, n: int = 3):
@@ -350,7 +350,7 @@ def test_json_that_json_cannot_read_is_a_typed_error(text, match, tmp_path):
 
 
 def test_oversized_json_is_refused_before_it_is_read(tmp_path, monkeypatch):
-    import planners.trajectory
+    from optraj import planners
 
     text = _good_dict()
     path = tmp_path / "t.json"

@@ -8,7 +8,7 @@ import pytest
 from conftest import get_robot
 
 from optraj.errors import InvalidInputError, UnknownNameError
-from planners.transcription import (
+from optraj.planners.transcription import (
     PARAMETERS,
     FrozenOptions,
     Layout,
@@ -23,7 +23,7 @@ from planners.transcription import (
     torque_linearization,
     torque_parameter_count,
 )
-from robots import SymbolicModel
+from optraj.robots import SymbolicModel
 
 
 def _compiled(intervals=(4, 3), **fields):
@@ -229,7 +229,7 @@ def test_a_warm_start_barrier_starts_at_a_tenth_of_the_tolerance(monkeypatch, to
     _, compiled = _compiled(options=options)
     passed = {}
     monkeypatch.setattr(
-        "planners.transcription._nlpsol", lambda nlp, given: passed.update(given) or "solver"
+        "optraj.planners.transcription._nlpsol", lambda nlp, given: passed.update(given) or "solver"
     )
     assert compiled.warm() == "solver"
     assert passed["ipopt.mu_init"] == pytest.approx(barrier, rel=1e-12)

@@ -106,10 +106,8 @@ def test_counts_have_an_upper_bound_that_the_error_names():
 
 
 def test_counts_that_unroll_or_allocate_are_refused_before_any_work():
-    import controllers
-    import planners
-    import problems
-    from planners.contact import choose_contact
+    from optraj import controllers, planners, problems
+    from optraj.planners.contact import choose_contact
 
     shot = problems.sawyer_pool_shot()
     with pytest.raises(InvalidInputError, match="active_set_changes must be an integer <= 64"):

@@ -8,10 +8,9 @@ import numpy as np
 import pytest
 from conftest import get_robot
 
-import planners
-import problems
+from optraj import planners, problems
 from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError
-from planners.via_points import PROFILES, ViaPoints
+from optraj.planners.via_points import PROFILES, ViaPoints
 
 QUANTITIES = ("position", "velocity", "acceleration")
 

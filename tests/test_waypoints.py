@@ -6,7 +6,7 @@ import pytest
 from conftest import get_robot
 
 from optraj.errors import InvalidInputError, JointLimitError
-from problems import BoundaryState, ViaPoint, Waypoints
+from optraj.problems import BoundaryState, ViaPoint, Waypoints
 
 
 def test_constraints_include_via_points_only_with_a_tolerance():

@@ -7,12 +7,12 @@ import pickle
 import numpy as np
 import pytest
 
-import problems
+from optraj import problems
 from optraj.errors import InvalidInputError
-from planners import OptimalControl, Trajectory, check
-from planners.contact import choose_contact
-from planners.transcription import jerk_step
-from planners.window_check import QUANTITIES, WindowCheck, _velocity_peaks, run_out
+from optraj.planners import OptimalControl, Trajectory, check
+from optraj.planners.contact import choose_contact
+from optraj.planners.transcription import jerk_step
+from optraj.planners.window_check import QUANTITIES, WindowCheck, _velocity_peaks, run_out
 
 #: Strike benchmark ball 3 and its heading [deg]: at 1.5 m/s its contact configurations need
 #: more than 0.99 of right_j0's velocity limit, and its window more than the limits.

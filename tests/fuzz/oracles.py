@@ -14,8 +14,8 @@ import numpy as np
 from hypothesis import note
 from hypothesis.errors import InvalidArgument
 
-import planners
 from fuzz.strategies import PROMISES, PlannerSpec, ProblemSpec, finite_everywhere
+from optraj import planners
 from optraj.errors import OptrajError
 
 __all__ = ["assert_nan_free", "check_rate", "judge_plan", "plan_or_refusal", "same_plan"]

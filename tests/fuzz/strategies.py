@@ -19,10 +19,7 @@ import numpy as np
 from conftest import get_robot
 from hypothesis import strategies as st
 
-import controllers
-import planners
-import problems
-import robots
+from optraj import controllers, planners, problems, robots
 
 __all__ = [
     "BASIC",

@@ -9,12 +9,10 @@ import numpy as np
 from conftest import get_robot
 from hypothesis import given, settings
 
-import controllers
-import planners
-import problems
 from fuzz.budget import examples, recorded
 from fuzz.oracles import assert_nan_free
 from fuzz.strategies import ControllerSpec, controller_specs
+from optraj import controllers, planners, problems
 from optraj.errors import OptrajError
 
 

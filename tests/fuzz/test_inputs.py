@@ -18,13 +18,10 @@ import pytest
 from conftest import get_robot
 from hypothesis import given, settings
 
-import controllers
-import planners
-import problems
-import robots
 from fuzz.budget import examples, recorded
 from fuzz.oracles import assert_nan_free
 from fuzz.strategies import bad_values
+from optraj import controllers, planners, problems, robots
 from optraj.errors import OptrajError
 
 

@@ -11,10 +11,10 @@ from conftest import get_robot
 from hypothesis import given, note, settings
 from hypothesis import strategies as st
 
-import planners
 from fuzz.budget import examples, recorded
 from fuzz.oracles import assert_nan_free
 from fuzz.strategies import polynomial_trajectories, robot_names
+from optraj import planners
 from optraj.errors import OptrajError
 
 #: Dense samples per segment for the independent look at the peaks.
