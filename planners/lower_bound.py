@@ -32,7 +32,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError
 from optraj.planners.checker import ABSOLUTE_SLACK, RELATIVE_SLACK
-from optraj.planners.ruckig_planner import _calculate, _check_state, _input, _limits, _optional
+from optraj.planners.ruckig_planner import (
+    calculate,
+    check_state,
+    checked_limits,
+    ruckig_input,
+    state_or_zeros,
+)
 from optraj.problems import PointToPoint
 from optraj.robots import JointLimits, Robot
 from optraj.validation import as_array, as_vector, ndim_of
@@ -115,17 +121,17 @@ def joint_min_durations(
             f"{', '.join(missing)}",
             name=missing[0],
         )
-    box = _limits(keywords["limits"])
+    box = checked_limits(keywords["limits"])
     n = box.n
     q0 = as_vector(keywords["q_start"], "q_start", n)
     q1 = as_vector(keywords["q_goal"], "q_goal", n)
-    v0 = _optional(keywords["qd_start"], "qd_start", n)
-    v1 = _optional(keywords["qd_goal"], "qd_goal", n)
-    a0 = _optional(keywords["qdd_start"], "qdd_start", n)
-    a1 = _optional(keywords["qdd_goal"], "qdd_goal", n)
-    _check_state(v0, a0, box, "start", arriving=False)
-    _check_state(v1, a1, box, "target", arriving=True)
-    inp = _input(
+    v0 = state_or_zeros(keywords["qd_start"], "qd_start", n)
+    v1 = state_or_zeros(keywords["qd_goal"], "qd_goal", n)
+    a0 = state_or_zeros(keywords["qdd_start"], "qdd_start", n)
+    a1 = state_or_zeros(keywords["qdd_goal"], "qdd_goal", n)
+    check_state(v0, a0, box, "start", arriving=False)
+    check_state(v1, a1, box, "target", arriving=True)
+    inp = ruckig_input(
         box,
         q0,
         q1,
@@ -133,7 +139,7 @@ def joint_min_durations(
         synchronization=ruckig.Synchronization.No,
         minimum_duration=None,
     )
-    native = _calculate(inp, box)
+    native = calculate(inp, box)
     return np.asarray(native.independent_min_durations, dtype=float)
 
 

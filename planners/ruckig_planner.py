@@ -67,7 +67,12 @@ __all__ = [
     "SYNCHRONIZATIONS",
     "OnlineRuckig",
     "Ruckig",
+    "calculate",
+    "check_state",
+    "checked_limits",
     "native_to_trajectory",
+    "ruckig_input",
+    "state_or_zeros",
     "state_to_state",
     "stop",
 ]
@@ -160,7 +165,7 @@ def _as_tuple(values: object) -> tuple[object, ...] | None:
         return None
 
 
-def _limits(limits: object) -> JointLimits:
+def checked_limits(limits: object) -> JointLimits:
     """``limits`` if it is a :class:`robots.JointLimits`, else InvalidInputError."""
     if not isinstance(limits, JointLimits):
         raise InvalidInputError(
@@ -169,12 +174,12 @@ def _limits(limits: object) -> JointLimits:
     return limits
 
 
-def _optional(value: ArrayLike | None, name: str, n: int) -> FloatArray:
+def state_or_zeros(value: ArrayLike | None, name: str, n: int) -> FloatArray:
     """A state vector of length n; zeros when None."""
     return np.zeros(n) if value is None else as_vector(value, name, n)
 
 
-def _check_state(
+def check_state(
     qd: FloatArray, qdd: FloatArray, limits: JointLimits, label: str, *, arriving: bool
 ) -> None:
     """Raise InfeasibleError if a velocity/acceleration state is outside what the limits allow.
@@ -235,7 +240,7 @@ def _check_state(
 # ------------------------------------------------------------------------- ruckig calls
 
 
-def _input(
+def ruckig_input(
     limits: JointLimits,
     q0: FloatArray,
     q1: FloatArray,
@@ -318,7 +323,7 @@ def _calculator(n: int) -> ruckig.Ruckig:
     return calculator
 
 
-def _calculate(inp: ruckig.InputParameter, limits: JointLimits) -> ruckig.Trajectory:
+def calculate(inp: ruckig.InputParameter, limits: JointLimits) -> ruckig.Trajectory:
     """Run Ruckig's offline calculation.
 
     Raises:
@@ -755,9 +760,9 @@ def _move(
     if moving:
         _check_unsynchronised(synchronization, v1, a1)
         if check_limits:
-            _check_state(v0, a0, limits, "start", arriving=False)
-        _check_state(v1, a1, limits, "target", arriving=True)
-    inp = _input(
+            check_state(v0, a0, limits, "start", arriving=False)
+        check_state(v1, a1, limits, "target", arriving=True)
+    inp = ruckig_input(
         limits,
         start,
         goal,
@@ -766,7 +771,7 @@ def _move(
         minimum_duration=minimum_duration,
         interface=_INTERFACES[interface],
     )
-    native = _calculate(inp, limits)
+    native = calculate(inp, limits)
     duration = float(native.duration)
     if duration <= 0.0:
         if interface == "velocity":
@@ -880,7 +885,7 @@ def state_to_state(
             our tests).
     """
     started = time.perf_counter()
-    limits = _limits(limits)
+    limits = checked_limits(limits)
     _synchronization(synchronization)
     minimum = _minimum_duration(minimum_duration)
     check_limits = as_flag(check_limits, "check_limits")
@@ -892,11 +897,11 @@ def state_to_state(
     return _move(
         limits,
         start,
-        _optional(qd0, "qd0", n),
-        _optional(qdd0, "qdd0", n),
+        state_or_zeros(qd0, "qd0", n),
+        state_or_zeros(qdd0, "qdd0", n),
         goal,
-        _optional(qd1, "qd1", n),
-        _optional(qdd1, "qdd1", n),
+        state_or_zeros(qd1, "qd1", n),
+        state_or_zeros(qdd1, "qdd1", n),
         started=started,
         synchronization=synchronization,
         minimum_duration=minimum,
@@ -945,7 +950,7 @@ def stop(
         SolverError: Ruckig fails; carries its status.
     """
     started = time.perf_counter()
-    limits = _limits(limits)
+    limits = checked_limits(limits)
     _synchronization(synchronization)
     check_limits = as_flag(check_limits, "check_limits")
     n = limits.n
@@ -956,7 +961,7 @@ def stop(
         limits,
         start,
         as_vector(qd0, "qd0", n),
-        _optional(qdd0, "qdd0", n),
+        state_or_zeros(qdd0, "qdd0", n),
         start,
         zeros,
         zeros,
@@ -1028,7 +1033,7 @@ class Ruckig(JointProfile):
         Raises:
             See :func:`state_to_state`.
         """
-        limits = _limits(limits)
+        limits = checked_limits(limits)
         still_rule = None if self.minimum_duration is not None else self.name
         start, goal, duration = rest_to_rest_inputs(q_start, q_goal, limits, duration, still_rule)
         return state_to_state(
@@ -1069,7 +1074,7 @@ class Ruckig(JointProfile):
         if self.minimum_duration is None:  # with one, a still move is a hold
             problem.require_motion(self.name)
         started = time.perf_counter()
-        limits = _limits(problem.limits)
+        limits = checked_limits(problem.limits)
         minimum = self.minimum_duration
         if problem.duration is not None:
             minimum = _minimum_duration(problem.duration, minimum)
@@ -1165,7 +1170,7 @@ class OnlineRuckig:
     """
 
     def __init__(self, limits: JointLimits, dt: float, *, synchronization: str = "time") -> None:
-        self.limits = _limits(limits)
+        self.limits = checked_limits(limits)
         self.dt = as_duration(dt, "dt")
         self.synchronization = synchronization
         self._sync = _synchronization(synchronization)
@@ -1192,10 +1197,10 @@ class OnlineRuckig:
         n = self.limits.n
         position = as_vector(q, "q", n)
         self.limits.check_position(position, tolerance=1e-9, context="reset position")
-        velocity, acceleration = _optional(qd, "qd", n), _optional(qdd, "qdd", n)
-        _check_state(velocity, acceleration, self.limits, "start", arriving=False)
+        velocity, acceleration = state_or_zeros(qd, "qd", n), state_or_zeros(qdd, "qdd", n)
+        check_state(velocity, acceleration, self.limits, "start", arriving=False)
         zeros = [0.0] * n
-        self._inp = _input(
+        self._inp = ruckig_input(
             self.limits,
             position,
             position,
@@ -1236,10 +1241,10 @@ class OnlineRuckig:
         n = self.limits.n
         goal = as_vector(target_q, "target_q", n)
         self.limits.check_position(goal, tolerance=1e-9, context="target position")
-        velocity = _optional(target_qd, "target_qd", n)
-        acceleration = _optional(target_qdd, "target_qdd", n)
+        velocity = state_or_zeros(target_qd, "target_qd", n)
+        acceleration = state_or_zeros(target_qdd, "target_qdd", n)
         _check_unsynchronised(self.synchronization, velocity, acceleration)
-        _check_state(velocity, acceleration, self.limits, "target", arriving=True)
+        check_state(velocity, acceleration, self.limits, "target", arriving=True)
         self._inp.target_position = goal.tolist()
         self._inp.target_velocity = velocity.tolist()
         self._inp.target_acceleration = acceleration.tolist()

@@ -109,3 +109,14 @@ def test_importing_optraj_is_cheap_and_robots_is_headless():
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
     assert done.returncode == 0, done.stderr
+
+
+def test_no_module_imports_private_names_of_another():
+    # A private name is a module's own: shared code is public (and documented) or moves.
+    for folder in ["optraj", *ORDER]:
+        for path in sorted((ROOT / folder).rglob("*.py")):
+            tree = ast.parse(path.read_text(), filename=str(path))
+            for node in ast.walk(tree):
+                if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("optraj"):
+                    private = [a.name for a in node.names if a.name.startswith("_")]
+                    assert not private, f"{path.relative_to(ROOT)} imports {private}"
