@@ -47,7 +47,7 @@ Between gridpoints
     interval, toppra's "interpolation" discretisation), so in between a limit can be
     exceeded slightly. Three measures keep the result within the limits:
 
-    * speed caps use bounds that also hold between gridpoints (:func:`_chord_safe_bound`);
+    * speed caps use bounds that also hold between gridpoints (:func:`chord_safe_bound`);
     * every rate limit is shrunk by :data:`MARGIN` before solving;
     * the result is verified: on each grid interval joint velocity and acceleration are
       polynomials in time, bounded exactly (from above) by their Bernstein coefficients,
@@ -154,202 +154,30 @@ _REFINE_ABOVE = 0.005
 
 @cache
 def _lib() -> SimpleNamespace:
-    """Import toppra and scipy on first use and define the classes derived from toppra's.
+    """Toppra's return code and discretisation, and our classes derived from toppra's.
 
-    Importing toppra imports matplotlib.pyplot and scipy.interpolate (about 0.7 s), so it is
-    deferred to the first plan and ``from optraj import planners`` stays fast.
+    Importing toppra imports matplotlib.pyplot and scipy.interpolate (about 0.7 s), so
+    :mod:`optraj.planners.toppra_classes` is imported on the first plan and
+    ``from optraj import planners`` stays fast.
     """
-    import toppra
     import toppra.algorithm
     import toppra.constraint
-    import toppra.interpolator
-    import toppra.parametrizer
-    from scipy.interpolate import PPoly
 
-    try:  # toppra 0.6's layout; any other: the public constructor below
-        from toppra.algorithm.algorithm import ParameterizationAlgorithm
-        from toppra.solverwrapper.cy_seidel_solverwrapper import seidelWrapper
-    except ImportError:  # pragma: no cover - depends on the installed toppra
-        seidelWrapper = None
+    from optraj.planners import toppra_classes
 
-    class SeidelTOPPRA(toppra.algorithm.TOPPRA):  # type: ignore[misc]
-        """toppra's TOPPRA with its Seidel solver wrapper, built without the solver probe.
-
-        ``ReachabilityAlgorithm.__init__`` looks for the optional solver packages (qpOASES,
-        cvxpy, by importlib) on every construction, even when the wrapper is named: about
-        0.1 ms, 4 % of a 100-interval solve. This builds the same instance as
-        ``TOPPRA(constraints, path, gridpoints, solver_wrapper="seidel", parametrizer=...)``
-        (the base initialisation, then the wrapper with the same arguments) without it.
-        """
-
-        def __init__(self, constraints: list[Any], path: Any, gridpoints: FloatArray) -> None:
-            if seidelWrapper is None:  # pragma: no cover - depends on the installed toppra
-                super().__init__(
-                    constraints,
-                    path,
-                    gridpoints=gridpoints,
-                    solver_wrapper="seidel",
-                    parametrizer="ParametrizeConstAccel",
-                )
-                return
-            ParameterizationAlgorithm.__init__(
-                self, constraints, path, gridpoints=gridpoints, parametrizer="ParametrizeConstAccel"
-            )
-            self.solver_wrapper = seidelWrapper(
-                self.constraints, self.path, self.gridpoints, solve_lp1d=True
-            )
-
-    class PolynomialPath(toppra.interpolator.AbstractGeometricPath):  # type: ignore[misc]
-        """A piecewise polynomial path q(s) for toppra, evaluated by scipy's PPoly.
-
-        Attributes:
-            curvature_jumps: Knots where q'' jumps, with q, q' and the left q'' there (see
-                :func:`_curvature_jumps`); the acceleration and torque constraints read it.
-            rest_points: Inner knots where the path is at rest (see
-                :attr:`GeometricPath.rest_points`); the speed constraint reads it.
-        """
-
-        def __init__(self, path: GeometricPath) -> None:
-            super().__init__()
-            # PPoly wants descending powers, shape (d + 1, segments, n)
-            self._pp = tuple(
-                PPoly.construct_fast(
-                    np.ascontiguousarray(c[:, ::-1, :].transpose(1, 0, 2)), path.knots
-                )
-                for c in (path.coefficients, *path.derivatives)
-            )
-            self._interval = np.array([path.knots[0], path.knots[-1]])
-            self._dof = path.dof
-            self.curvature_jumps = _curvature_jumps(path.knots, path.coefficients)
-            self.rest_points = path.rest_points
-
-        def __call__(self, path_positions: ArrayLike, order: int = 0) -> FloatArray:
-            return self._pp[order](path_positions)
-
-        @property
-        def dof(self) -> int:
-            return self._dof
-
-        @property
-        def path_interval(self) -> FloatArray:
-            return self._interval
-
-    class SpeedConstraint(toppra.constraint.LinearConstraint):  # type: ignore[misc]
-        r"""Speed caps that hold between gridpoints too: :math:`\max_k r_k(s)\,\dot s \le 1`.
-
-        ``rates(path, s)`` gives each capped speed per unit path velocity over its cap,
-        shape (m, k) (joint velocities: :math:`|q_j'(s)| / v_j`). Only ``xbound`` is set,
-        by :func:`_chord_safe_bound`.
-        """
-
-        def __init__(self, rates: Callable[[Any, FloatArray], FloatArray], dof: int) -> None:
-            super().__init__()
-            self.rates = rates
-            self.dof = dof
-            self._format_string = "    Speed caps, chord-safe\n"
-
-        def compute_constraint_params(self, path: Any, gridpoints: FloatArray) -> tuple:
-            xbound = np.zeros((len(gridpoints), 2))
-            xbound[:, 1] = _chord_safe_bound(self.rates, path, np.asarray(gridpoints))
-            return None, None, None, None, None, None, xbound
-
-    class AccelerationConstraint(toppra.constraint.LinearConstraint):  # type: ignore[misc]
-        r"""Joint acceleration limits, :math:`|q'(s)\,u + q''(s)\,x| \le a`.
-
-        Discretised like toppra's ``JointAccelerationConstraint`` with its "interpolation"
-        scheme (the limits hold at both ends of each grid interval, with the interval's u),
-        but with two differences: at a knot where q'' jumps the end of the interval before
-        it uses that segment's q'' (the left limit; toppra would take the next segment's),
-        and every row is normalised (see :func:`_normalised_rows`).
-        """
-
-        def __init__(self, limit: FloatArray) -> None:
-            super().__init__()
-            self.limit = np.asarray(limit, dtype=float)
-            self.dof = self.limit.size
-            self.identical = True
-            self.discretization_type = toppra.constraint.DiscretizationType.Interpolation
-            self._format_string = "    Joint accelerations, normalised rows\n"
-
-        def compute_constraint_params(self, path: Any, gridpoints: FloatArray) -> tuple:
-            grid = np.asarray(gridpoints, dtype=float)
-            qs = path(grid, 1)
-            qss = path(grid, 2)
-            qss_end = qss[1:].copy()
-            for row, _, _, _, left in _jump_rows(path, grid):
-                qss_end[row] = left
-            a_end = qs[1:] + 2.0 * np.diff(grid)[:, None] * qss_end
-            return _normalised_rows(qs, qss, None, a_end, qss_end, None, self.limit)
-
-    class TorqueConstraint(toppra.constraint.JointTorqueConstraint):  # type: ignore[misc]
-        """The joint torque constraint of toppra, discretised like the acceleration one.
-
-        toppra computes the coefficients at each gridpoint by inverse dynamics (build it
-        with its collocation scheme); the rows for the interval ends are added here, with
-        left limits at curvature jumps, and every row is normalised.
-        """
-
-        def compute_constraint_params(self, path: Any, gridpoints: FloatArray) -> tuple:
-            grid = np.asarray(gridpoints, dtype=float)
-            a, b, c = super().compute_constraint_params(path, grid)[:3]
-            b_end = b[1:].copy()
-            zero = np.zeros(self.dof)
-            for row, _, q, qs, left in _jump_rows(path, grid):
-                b_end[row] = self.inv_dyn(q, qs, left) - self.inv_dyn(q, zero, zero)
-            a_end = a[1:] + 2.0 * np.diff(grid)[:, None] * b_end
-            return _normalised_rows(a, b, c, a_end, b_end, c[1:], self.tau_lim[:, 1])
-
-    class ConstAccelOutput(toppra.parametrizer.ParametrizeConstAccel):  # type: ignore[misc]
-        """toppra's ``ParametrizeConstAccel`` output, its grid times computed with NumPy."""
-
-        def _process_parametrization(self) -> None:
-            ds = np.diff(self._ss)
-            self._us = 0.5 * np.diff(self._xs) / ds
-            speeds = self._velocities[:-1] + self._velocities[1:]
-            self._ts = np.concatenate([[0.0], np.cumsum(2.0 * ds / speeds)])
-
-    classes = {
-        "TOPPRA": SeidelTOPPRA,
-        "ConstAccelOutput": ConstAccelOutput,
-        "PolynomialPath": PolynomialPath,
-        "SpeedConstraint": SpeedConstraint,
-        "AccelerationConstraint": AccelerationConstraint,
-        "TorqueConstraint": TorqueConstraint,
-    }
-    for name, cls in classes.items():  # importable as planners.toppra_planner._<name>
-        cls.__module__ = __name__
-        cls.__name__ = cls.__qualname__ = f"_{name}"
-        globals()[f"_{name}"] = cls
     return SimpleNamespace(
         Ok=toppra.algorithm.ParameterizationReturnCode.Ok,
         Collocation=toppra.constraint.DiscretizationType.Collocation,
-        **classes,
+        TOPPRA=toppra_classes.SeidelTOPPRA,
+        ConstAccelOutput=toppra_classes.ConstAccelOutput,
+        PolynomialPath=toppra_classes.PolynomialPath,
+        SpeedConstraint=toppra_classes.SpeedConstraint,
+        AccelerationConstraint=toppra_classes.AccelerationConstraint,
+        TorqueConstraint=toppra_classes.TorqueConstraint,
     )
 
 
-#: Classes defined by :func:`_lib` once toppra is imported (found by pickle through
-#: :func:`__getattr__`, so that trajectories holding toppra objects can be unpickled).
-_LAZY_CLASSES = frozenset(
-    f"_{name}"
-    for name in (
-        "TOPPRA",
-        "ConstAccelOutput",
-        "PolynomialPath",
-        "SpeedConstraint",
-        "AccelerationConstraint",
-        "TorqueConstraint",
-    )
-)
-
-
-def __getattr__(name: str) -> Any:
-    """Module attributes created on first use: the classes derived from toppra's."""
-    if name in _LAZY_CLASSES:
-        return getattr(_lib(), name[1:])
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def _chord_safe_bound(
+def chord_safe_bound(
     rates: Callable[[Any, FloatArray], FloatArray], path: Any, grid: FloatArray
 ) -> FloatArray:
     r"""Upper bounds on :math:`x = \dot s^2` at the gridpoints that also hold in between.
@@ -425,7 +253,7 @@ def _tool_speed_factor(robot: Robot, q: FloatArray, qd: FloatArray) -> FloatArra
     return out
 
 
-def _normalised_rows(
+def normalised_rows(
     a: FloatArray,
     b: FloatArray,
     c: FloatArray | None,
@@ -721,7 +549,7 @@ def _derivative(coefficients: FloatArray) -> FloatArray:
     return coefficients[:, 1:, :] * powers
 
 
-def _curvature_jumps(
+def curvature_jumps(
     knots: FloatArray, coefficients: FloatArray
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Inner knots where a path's second derivative jumps, with the path's state there.
@@ -743,7 +571,7 @@ def _curvature_jumps(
     return knots[at + 1], coefficients[at + 1, 0, :], first[at + 1, 0, :], left[at]
 
 
-def _jump_rows(
+def jump_rows(
     path: Any, gridpoints: FloatArray
 ) -> list[tuple[int, float, FloatArray, FloatArray, FloatArray]]:
     """Grid intervals that end on a curvature jump of the path.
@@ -1495,7 +1323,7 @@ def _stretch(path: GeometricPath) -> float:
     """Factor c >= 1 on the path parameter that brings a short path's numbers to toppra's scale.
 
     toppra's Seidel solver tests feasibility with absolute tolerances (1e-10, 1e-8; see
-    :func:`_normalised_rows`) and caps values at 1e8 (``toppra.constants.VERYLARGE``). Along
+    :func:`normalised_rows`) and caps values at 1e8 (``toppra.constants.VERYLARGE``). Along
     a path of length L at a path acceleration bound a, the squared path velocity is about
     a L in the middle and 2 a ds near a rest end (ds = L / N the grid step): on a Sawyer
     line 1e-9 rad long with 100 intervals that is about 1.4e-10, and toppra called the
