@@ -124,15 +124,8 @@ class JointProfile(ABC):
                     f"{np.round(np.asarray(values), 6).tolist()} is not zero",
                     name=label,
                 )
-        for label in ("qdd_start", "qdd_goal"):
-            # its end accelerations follow from the timing (an LSPB starts at full
-            # acceleration): a prescribed one, even zero, is not met
-            if getattr(problem, label) is not None:
-                raise InvalidInputError(
-                    f"{type(self).__name__} cannot meet prescribed accelerations ({label} is "
-                    "given); leave it None or use Quintic",
-                    name=label,
-                )
+        # its end accelerations follow from the timing (an LSPB starts at full acceleration)
+        refuse_prescribed_accelerations(problem, type(self).__name__)
         problem.require_motion(self.name)
         started = time.perf_counter()
         traj = self.move(problem.q_start, problem.q_goal, problem.limits, problem.duration)
@@ -144,6 +137,24 @@ class JointProfile(ABC):
             metadata=traj.metadata,
         )
         return stamp(traj, self.name, started)
+
+
+def refuse_prescribed_accelerations(problem: PointToPoint, planner: str) -> None:
+    """Refuse a problem that prescribes an end acceleration, for a profile that meets none.
+
+    A profile whose end accelerations follow from its positions, velocities and timing
+    meets no prescribed acceleration, not even zero.
+
+    Raises:
+        InvalidInputError: ``qdd_start`` or ``qdd_goal`` is given; names it and ``planner``.
+    """
+    for label in ("qdd_start", "qdd_goal"):
+        if getattr(problem, label) is not None:
+            raise InvalidInputError(
+                f"{planner} cannot meet prescribed accelerations ({label} is given); leave it "
+                "None or use Quintic",
+                name=label,
+            )
 
 
 def rest_to_rest_inputs(

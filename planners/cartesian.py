@@ -418,15 +418,17 @@ class CartesianStraightLine:
         rate and every breakpoint; a second pass covers a peak that moved between samples).
 
         Raises:
-            InfeasibleError: A fixed duration whose plan is over the cap.
+            InfeasibleError: A fixed duration whose plan is over the cap, or a plan still
+                over it after three slow-downs (every returned plan is checked).
         """
         cap = float(problem.speed)  # type: ignore[arg-type]
         target = _LimitsOnly(problem.robot, problem.limits)
-        for _ in range(3):
+        slowdowns = 0
+        while True:
             peak = check(traj, target, quantities=[], tool_speed=cap)["tool speed"].value
             if peak <= cap:
                 return traj
-            if problem.duration is not None:
+            if problem.duration is not None or slowdowns == 3:
                 raise InfeasibleError(
                     f"a {self.profile} line of {problem.length:.4g} m in {traj.duration:.4g} s "
                     f"takes the tool to {peak:.6g} m/s, above the speed cap {cap:.6g} m/s",
@@ -435,7 +437,7 @@ class CartesianStraightLine:
                     allowed=cap,
                 )
             traj = at(traj.duration * (peak / cap) * (1.0 + 1e-9))
-        return traj
+            slowdowns += 1
 
     def _shortest(self, unit: Trajectory, problem: CartesianLine) -> float:
         """Shortest duration within the joint limits, from the exact peaks of the 1 s path.

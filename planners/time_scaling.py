@@ -15,7 +15,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError
-from optraj.planners.base import JointProfile, rest_to_rest_inputs, stamp
+from optraj.planners.base import (
+    JointProfile,
+    refuse_prescribed_accelerations,
+    rest_to_rest_inputs,
+    stamp,
+)
 from optraj.planners.cartesian import paddle_contact_velocity
 from optraj.planners.trajectory import Phase, Trajectory
 from optraj.problems import PaddleStrike, PointToPoint
@@ -376,15 +381,8 @@ class _Polynomial(JointProfile):
             "a0": zeros if problem.qdd_start is None else np.asarray(problem.qdd_start),
             "a1": zeros if problem.qdd_goal is None else np.asarray(problem.qdd_goal),
         }
-        # a cubic's end accelerations follow from its positions and velocities: it meets no
-        # prescribed acceleration, not even zero (a rest-to-rest cubic starts at 6 delta/T^2)
-        for label in ("qdd_start", "qdd_goal"):
-            if self.degree < 5 and getattr(problem, label) is not None:
-                raise InvalidInputError(
-                    f"a {self.name} cannot meet prescribed accelerations ({label} is given); "
-                    "leave it None or use Quintic",
-                    name=label,
-                )
+        if self.degree < 5:  # a rest-to-rest cubic starts at 6 delta / T^2
+            refuse_prescribed_accelerations(problem, f"a {self.name}")
         return boundary
 
     def _paddle(self, problem: PaddleStrike) -> Trajectory:

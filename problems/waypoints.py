@@ -10,7 +10,7 @@ from numpy.typing import ArrayLike
 from optraj.errors import InvalidInputError
 from optraj.problems.common import check_robot, joint_state, non_negative, resolve_limits
 from optraj.problems.constraints import BoundaryState, Constraint, ViaPoint
-from optraj.problems.point_to_point import STILL_TOLERANCE, still_error
+from optraj.problems.point_to_point import is_still, still_error
 from optraj.robots import JointLimits, Robot
 from optraj.validation import as_array, as_duration, as_vector
 
@@ -67,7 +67,7 @@ class Waypoints:
     def still(self) -> bool:
         """Whether every waypoint equals the first: no joint moves more than STILL_TOLERANCE."""
         points = np.asarray(self.waypoints)
-        return float(np.max(np.abs(points - points[0]))) <= STILL_TOLERANCE
+        return is_still(points[0], points)
 
     def require_motion(self, planner: str) -> None:
         """Refuse, for ``planner``, waypoints that all equal the first and no segment_durations.
