@@ -343,7 +343,6 @@ def _finding(
     detail: str,
     margin: float | None = None,
     ratio: float | None = None,
-    scale: float | None = None,
     slack: float | None = None,
 ) -> Finding:
     """Build a finding: margin, ratio and verdict from value and limit, NaN turned into a fail.
@@ -359,8 +358,8 @@ def _finding(
         detail: Explanation.
         margin: ``limit - value`` when None [unit].
         ratio: ``value / limit`` when None [-].
-        scale: Scale of the pass slack [unit]; ``|limit|`` when None.
-        slack: The pass slack itself [unit] (see :func:`round_off`); from ``scale`` when None.
+        slack: The pass slack [unit] (see :func:`round_off`); the round-off of ``limit`` when
+            None.
     """
     value = float(value)
     limit = float(limit)
@@ -374,7 +373,7 @@ def _finding(
     if math.isnan(ratio):
         ratio = math.inf
     if slack is None:
-        slack = float(round_off(limit if scale is None else scale))
+        slack = float(round_off(limit))
     return Finding(
         name=name,
         kind=kind,
@@ -461,6 +460,24 @@ def _real_roots(coefficients: FloatArray, length: float) -> FloatArray:
     return np.clip(near[(near > -1e-9 * length) & (near < length * (1 + 1e-9))], 0.0, length)
 
 
+def _horner(coefficients: FloatArray, u: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Value and derivative of each row's polynomial at its points, by Horner's scheme.
+
+    Args:
+        coefficients: Ascending powers, one polynomial per row, shape (R, d + 1).
+        u: Points, shape (R, c).
+
+    Returns:
+        (value, derivative), each shape (R, c).
+    """
+    value = np.zeros_like(u)
+    derivative = np.zeros_like(u)
+    for i in range(coefficients.shape[1] - 1, -1, -1):
+        derivative = derivative * u + value
+        value = value * u + coefficients[:, i : i + 1]
+    return value, derivative
+
+
 def _unit_roots(slope: FloatArray) -> FloatArray:
     """Real parts of the roots of many polynomials, clipped onto [0, 1].
 
@@ -492,11 +509,7 @@ def _unit_roots(slope: FloatArray) -> FloatArray:
         companion[:, np.arange(1, m), np.arange(m - 1)] = 1.0
         companion[:, :, -1] = -c[:, :m] / c[:, m : m + 1]
         u = np.clip(np.linalg.eigvals(companion).real, 0.0, 1.0)  # (N_m, m)
-        value = np.zeros_like(u)
-        derivative = np.zeros_like(u)
-        for i in range(m, -1, -1):  # Horner for the value and its derivative together
-            derivative = derivative * u + value
-            value = value * u + c[:, i : i + 1]
+        value, derivative = _horner(c, u)
         # A near-zero derivative overflows the Newton step: the clip below keeps the root
         # in the segment, and the unpolished root u is a candidate too.
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -590,11 +603,7 @@ def _exact_candidates(ctx: _Context, order: int, score: _Score, fails: float) ->
             rows = scaled[k, :, j]  # (R, width)
             derivative = rows[:, 1:] * np.arange(1, width, dtype=float)
             u = _unit_roots(derivative)  # (R, c)
-            inner_value = np.zeros_like(u)
-            inner_slope = np.zeros_like(u)
-            for i in range(width - 1, -1, -1):
-                inner_slope = inner_slope * u + inner_value
-                inner_value = inner_value * u + rows[:, i : i + 1]
+            inner_value, inner_slope = _horner(rows, u)
             length = h[k][:, None]
             found.append(
                 (
@@ -879,6 +888,12 @@ class _Context:
         last = self.left_of(end) if end > start else end
         return np.unique(np.concatenate([inside, [start, last]]))
 
+    @functools.cached_property
+    def peak_speed(self) -> float:
+        """The fastest any joint moves [rad/s or m/s], exact on every segment."""
+        speed = _exact_candidates(self, 1, lambda x, j: np.abs(x), math.inf)
+        return float(np.max(np.abs(speed.value)))
+
     def state(self, time: float) -> list[FloatArray]:
         """Exact q, qd, qdd and jerk at one time, each shape (n,)."""
         at = np.array([min(max(time, 0.0), self.duration)])
@@ -903,11 +918,10 @@ def _limit_findings(
     """One finding per requested joint quantity: the worst joint and time.
 
     Position, velocity, acceleration and jerk are bounded exactly on every segment
-    (:func:`_candidates`), whatever the sampling rate; torque is sampled.
+    (:func:`_exact_candidates`), whatever the sampling rate; torque is sampled.
     """
     limits, names = ctx.limits, ctx.names
     findings: list[Finding] = []
-    sampled: list[FloatArray] = []
     for quantity in quantities:
         unbounded = _jump_finding(quantity, jumps, limits, names)
         if unbounded is not None:
@@ -915,8 +929,7 @@ def _limit_findings(
         elif quantity == "position":
             findings.append(_position_finding(ctx))
         elif quantity == "torque":
-            if not sampled:
-                sampled = [_evaluate(ctx.derivatives[r], ctx.knots, ctx.grid) for r in range(3)]
+            sampled = [_evaluate(ctx.derivatives[r], ctx.knots, ctx.grid) for r in range(3)]
             torque = robot.inverse_dynamics(*sampled)
             findings.append(_torque_finding(ctx, torque))
         else:
@@ -1207,8 +1220,7 @@ def _via_point(via: ViaPoint, ctx: _Context) -> _Evaluation:
         # point of one joint's error, or where two joints' errors are equal in magnitude.
         # Every instant lies within spacing / 2 of a sample, and the distance changes no
         # faster than the fastest joint: its exact peak speed (a factor 2 to spare).
-        speed = _exact_candidates(ctx, 1, lambda x, j: np.abs(x), math.inf)
-        slack = float(np.max(np.abs(speed.value))) * ctx.spacing + 1e-15
+        slack = ctx.peak_speed * ctx.spacing + 1e-15
         segment = _segments(ctx.knots, ctx.grid)
         close = np.argsort(distance, kind="stable")
         close = close[distance[close] <= best[0] + slack]

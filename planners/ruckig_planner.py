@@ -1122,11 +1122,9 @@ def _check_end(native: ruckig.Trajectory, problem: PointToPoint, limits: JointLi
         for x, y in zip(got, target.tolist(), strict=True)
     ):
         return
-    position, velocity, acceleration = (np.array(x, dtype=float) for x in ends)
-    actual = (position, velocity, acceleration)
-    tolerance = float(problem.tolerance)
+    actual = tuple(np.array(x, dtype=float) for x in ends)  # position, velocity, acceleration
     allowed = state_allowance(
-        wanted, (velocity, acceleration, np.zeros(limits.n)), tolerance, limits, duration
+        wanted, (actual[1], actual[2], np.zeros(limits.n)), tolerance, limits, duration
     )
     for order, (target, bound) in enumerate(zip(wanted, allowed, strict=True)):
         if target is None or bound is None:

@@ -42,8 +42,8 @@ from optraj.planners.trajectory import Trajectory
 QUANTITIES = ("position", "velocity", "acceleration", "jerk")
 
 
-def _random_limits(robot, rng, low=0.3, high=2.0):
-    scale = rng.uniform(low, high, size=(3, robot.dof))
+def _scaled_limits(robot, scale):
+    """The robot's limits with velocity, acceleration and jerk times the rows of ``scale``."""
     base = robot.limits
     return dataclasses.replace(
         base,
@@ -51,6 +51,10 @@ def _random_limits(robot, rng, low=0.3, high=2.0):
         acceleration=base.acceleration * scale[1],
         jerk=base.jerk * scale[2],
     )
+
+
+def _random_limits(robot, rng, low=0.3, high=2.0):
+    return _scaled_limits(robot, rng.uniform(low, high, size=(3, robot.dof)))
 
 
 def _inner(limits, rng, fraction=0.8):
@@ -133,14 +137,7 @@ def test_random_state_to_state_moves_pass_the_checker_or_raise_typed_errors():
 
 def _slow_limits(robot, rng, low, high):
     """Limits scaled per joint and quantity, log-uniformly: velocity, acceleration, jerk."""
-    scale = np.exp(rng.uniform(np.log(low), np.log(high), size=(robot.dof, 3))).T
-    base = robot.limits
-    return dataclasses.replace(
-        base,
-        velocity=base.velocity * scale[0],
-        acceleration=base.acceleration * scale[1],
-        jerk=base.jerk * scale[2],
-    )
+    return _scaled_limits(robot, np.exp(rng.uniform(np.log(low), np.log(high), (robot.dof, 3))).T)
 
 
 @pytest.mark.skipif(not HAVE_ERD, reason="needs optraj[examples]")
