@@ -57,8 +57,7 @@ def tool_kinematics(robot: Robot, q: FloatArray) -> tuple[FloatArray, FloatArray
 
 def check_task(task: str) -> str:
     """Validate a task name (``"pose"`` or ``"axis"``)."""
-    as_choice(task, "task", TASKS)
-    return task
+    return as_choice(task, "task", TASKS)
 
 
 class CartesianPID:

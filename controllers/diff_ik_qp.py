@@ -230,8 +230,7 @@ class DiffIKQP(Controller):
         self.active_set_changes = as_count(
             active_set_changes, "active_set_changes", maximum=MAX_ACTIVE_SET_CHANGES
         )
-        as_choice(evaluation, "evaluation", EVALUATIONS)
-        self.evaluation = evaluation
+        self.evaluation = as_choice(evaluation, "evaluation", EVALUATIONS)
         # Pieces that do not change from step to step, built once.
         self._damping = damping_objective(robot.dof, self.damping)
         self._velocity = velocity_bounds(self.limits.velocity, self.velocity_scale)

@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike, NDArray
 from optraj.controllers.controller import Controller, References, State, sample_references
 from optraj.controllers.metrics import Metrics, tracking_metrics
 from optraj.controllers.plants import DynamicPlant, KinematicPlant, Plant
-from optraj.errors import InvalidInputError, SolverError, UnknownNameError
+from optraj.errors import InvalidInputError, SolverError
 from optraj.planners.trajectory import Trajectory
 from optraj.problems.common import check_robot
 from optraj.robots import Robot
@@ -201,11 +201,8 @@ def _plant(robot: Robot, plant: str | Plant) -> Plant:
                 name="plant",
             )
         return plant
-    if as_choice(plant, "plant", PLANTS) == "dynamic":
-        return DynamicPlant(robot)
-    if plant == "kinematic":
-        return KinematicPlant(robot)
-    raise UnknownNameError("plant", str(plant), PLANTS)
+    kind = as_choice(plant, "plant", PLANTS)
+    return DynamicPlant(robot) if kind == "dynamic" else KinematicPlant(robot)
 
 
 def _held_at_rest(references: References, t: FloatArray, end: float) -> References:

@@ -31,7 +31,7 @@ import ruckig
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError
-from optraj.planners.checker import ABSOLUTE_SLACK, RELATIVE_SLACK
+from optraj.planners.checker import round_off
 from optraj.planners.ruckig_planner import (
     calculate,
     check_state,
@@ -219,7 +219,7 @@ def check_state_torques(
         tau = robot.inverse_dynamics(
             as_vector(q, "q", n), as_vector(qd, "qd", n), as_vector(qdd, "qdd", n)
         )
-        excess = np.abs(tau) - limits.effort * (1.0 + RELATIVE_SLACK) - ABSOLUTE_SLACK
+        excess = np.abs(tau) - limits.effort - round_off(limits.effort)
         ratio = np.abs(tau) / limits.effort
         joint = int(np.argmax(ratio))
         if excess[joint] > 0.0 and (worst is None or ratio[joint] > worst[0]):
@@ -262,10 +262,7 @@ def lower_bound_va(delta: ArrayLike, vmax: ArrayLike, amax: ArrayLike) -> float:
     """
     arrays = []
     for name, value in (("delta", delta), ("vmax", vmax), ("amax", amax)):
-        try:
-            scalar = ndim_of(value) == 0
-        except ValueError:  # ragged: as_vector names the shape
-            scalar = False
+        scalar = ndim_of(value) == 0  # ragged is -1: as_vector names the shape
         array = np.atleast_1d(as_array(value, name, ()) if scalar else as_vector(value, name))
         if name != "delta" and np.any(array <= 0.0):
             raise InvalidInputError(f"{name} must be > 0, got {value!r}", name=name)

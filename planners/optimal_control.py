@@ -2036,11 +2036,8 @@ def _end_correction(
 
     It starts at zero at rest and ends at (``dq``, ``dv``, ``da``) [rad or m, /s, /s^2].
     """
-    T = float(knots[-1])
-    # c(t) = g3 t^3 + g4 t^4 + g5 t^5: the quintic Hermite end functions in t = tau T.
-    g3 = (10.0 * dq - 4.0 * dv * T + 0.5 * da * T**2) / T**3
-    g4 = (-15.0 * dq + 7.0 * dv * T - da * T**2) / T**4
-    g5 = (6.0 * dq - 3.0 * dv * T + 0.5 * da * T**2) / T**5
+    # c(t) = g3 t^3 + g4 t^4 + g5 t^5: the quintic from rest at zero to (dq, dv, da) at T
+    g3, g4, g5 = quintic_coefficients(np.zeros_like(dq), dq, float(knots[-1]), 0.0, dv, 0.0, da)[3:]
     t = knots[:-1, None]
     # Taylor coefficients c^(j)(t_k) / j! at each segment's start.
     return np.stack(

@@ -36,8 +36,11 @@ except ImportError:  # pragma: no cover - depends on the installed toppra
     seidel = None
 
 __all__ = [
+    "TOPPRA",
     "AccelerationConstraint",
+    "Collocation",
     "ConstAccelOutput",
+    "Ok",
     "PolynomialPath",
     "SeidelTOPPRA",
     "SpeedConstraint",
@@ -45,6 +48,11 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
+
+#: toppra's return code of a parametrisation that succeeded.
+Ok = toppra.algorithm.ParameterizationReturnCode.Ok
+#: toppra's collocation discretisation (the torque constraint is built with it).
+Collocation = toppra.constraint.DiscretizationType.Collocation
 
 
 class SeidelTOPPRA(toppra.algorithm.TOPPRA):  # type: ignore[misc]
@@ -191,3 +199,7 @@ class ConstAccelOutput(toppra.parametrizer.ParametrizeConstAccel):  # type: igno
         self._us = 0.5 * np.diff(self._xs) / ds
         speeds = self._velocities[:-1] + self._velocities[1:]
         self._ts = np.concatenate([[0.0], np.cumsum(2.0 * ds / speeds)])
+
+
+#: The TOPPRA algorithm the planner runs.
+TOPPRA = SeidelTOPPRA

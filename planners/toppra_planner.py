@@ -82,7 +82,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cache, cached_property
-from types import SimpleNamespace
+from types import ModuleType
 from typing import Any
 
 import numpy as np
@@ -153,28 +153,16 @@ _REFINE_ABOVE = 0.005
 
 
 @cache
-def _lib() -> SimpleNamespace:
-    """Toppra's return code and discretisation, and our classes derived from toppra's.
+def _lib() -> ModuleType:
+    """:mod:`optraj.planners.toppra_classes`, imported on the first plan.
 
-    Importing toppra imports matplotlib.pyplot and scipy.interpolate (about 0.7 s), so
-    :mod:`optraj.planners.toppra_classes` is imported on the first plan and
-    ``from optraj import planners`` stays fast.
+    It holds toppra's return code and discretisation and our classes derived from toppra's.
+    Importing toppra imports matplotlib.pyplot and scipy.interpolate (about 0.7 s), so it is
+    imported on the first plan and ``from optraj import planners`` stays fast.
     """
-    import toppra.algorithm
-    import toppra.constraint
-
     from optraj.planners import toppra_classes
 
-    return SimpleNamespace(
-        Ok=toppra.algorithm.ParameterizationReturnCode.Ok,
-        Collocation=toppra.constraint.DiscretizationType.Collocation,
-        TOPPRA=toppra_classes.SeidelTOPPRA,
-        ConstAccelOutput=toppra_classes.ConstAccelOutput,
-        PolynomialPath=toppra_classes.PolynomialPath,
-        SpeedConstraint=toppra_classes.SpeedConstraint,
-        AccelerationConstraint=toppra_classes.AccelerationConstraint,
-        TorqueConstraint=toppra_classes.TorqueConstraint,
-    )
+    return toppra_classes
 
 
 def chord_safe_bound(
@@ -1118,14 +1106,11 @@ class Toppra:
                 "planners.ViaPoints)",
                 name="segment_durations",
             )
-        if problem.still:  # the rule of Waypoints.require_motion; Toppra cannot hold still
-            raise still_error(
-                self.name,
-                what="every waypoint equals the first",
-                name="waypoints",
-                reason="so there is no path to parametrise",
-                remedy="give segment_durations to hold still and plan with planners.ViaPoints",
-            )
+        problem.require_motion(  # segment_durations are None here: Toppra cannot hold still
+            self.name,
+            reason="so there is no path to parametrise",
+            remedy="give segment_durations to hold still and plan with planners.ViaPoints",
+        )
         limits = _limits_of(problem)
         path, index = _waypoint_path(np.asarray(problem.waypoints, dtype=float), limits)
         s = path.knots[index]

@@ -330,11 +330,12 @@ class Trajectory:
         metadata: Mapping[str, Any] | None,
     ) -> None:
         """Set the joint names, phases and metadata of a trajectory of n joints."""
+        names: tuple[Any, ...] | None = None
         if joint_names is None:
             names = tuple(f"q{j}" for j in range(n))
-        elif _is_collection(joint_names) and all(isinstance(name, str) for name in joint_names):
-            names = tuple(joint_names)
-        else:
+        elif _is_collection(joint_names):
+            names = tuple(joint_names)  # once: a generator is spent by one pass
+        if names is None or not all(isinstance(name, str) for name in names):
             raise InvalidInputError(
                 f"joint_names must be a sequence of {n} str, got {_short(joint_names)}",
                 name="joint_names",

@@ -278,7 +278,6 @@ class WindowCheck(CompiledCache):
         tau = problem.robot.inverse_dynamics(
             q_nodes, vel * states[:, n : 2 * n], acc * states[:, 2 * n :]
         )
-        gravity = problem.robot.gravity_torque(q_nodes)
         peaks = (
             _velocity_peaks(states, jerks, h, compiled.scale),
             np.abs(states[:, 2 * n :]).max(axis=0),  # linear on an interval: nodes suffice
@@ -292,7 +291,11 @@ class WindowCheck(CompiledCache):
             math.inf if top <= 0.0 else top ** (-1.0 / power)
             for power, top in enumerate(tops[:3], start=1)
         ]
-        factors.append(_effort_factor(tau, gravity, limits.effort) if effort else math.inf)
+        if effort:  # the effort factor splits the torque into gravity and a v^2 part
+            gravity = problem.robot.gravity_torque(q_nodes)
+            factors.append(_effort_factor(tau, gravity, limits.effort))
+        else:
+            factors.append(math.inf)
         which = int(np.argmin(factors))
         joint = int(np.argmax(peaks[which]))
         allowed = float((vel, acc, jerk, limits.effort)[which][joint])
@@ -445,7 +448,7 @@ def _compile(
         return mid + half * z[:n], vel * z[n : 2 * n], acc * z[2 * n :], z
 
     cost = s
-    rnea = symbolic.rnea()
+    rnea = symbolic.rnea() if effort_rows else None  # only the effort rows need it
     for node in range(k + 1):
         q, qd, qdd, z = state(node)
         strike_node_rows(rows, tool, line, q, qd, entry + speed * h * node * d, node in (0, k))
@@ -453,7 +456,7 @@ def _compile(
             # The approach into the window and the stop after it (module docstring).
             within(run_out(qd, qdd, jerk, -1.0 if node == 0 else 1.0) / vel)
         within(z[n:])
-        if effort_rows:
+        if rnea is not None:
             within(rnea(q, qd, qdd) / effort)
         if node == k:
             break

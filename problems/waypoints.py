@@ -69,10 +69,21 @@ class Waypoints:
         points = np.asarray(self.waypoints)
         return is_still(points[0], points)
 
-    def require_motion(self, planner: str) -> None:
+    def require_motion(
+        self,
+        planner: str,
+        *,
+        reason: str = "so the fastest move lasts 0 s",
+        remedy: str = "give segment_durations to hold still",
+    ) -> None:
         """Refuse, for ``planner``, waypoints that all equal the first and no segment_durations.
 
         The rule of :meth:`problems.PointToPoint.require_motion` for a sequence of moves.
+
+        Args:
+            planner: Name of the planner, for the message.
+            reason: Why a still sequence cannot be planned, for the message.
+            remedy: What to do instead, for the message.
 
         Raises:
             InvalidInputError: Naming ``waypoints``, saying to give segment_durations to
@@ -83,7 +94,8 @@ class Waypoints:
                 planner,
                 what="every waypoint equals the first",
                 name="waypoints",
-                remedy="give segment_durations to hold still",
+                reason=reason,
+                remedy=remedy,
             )
 
     def constraints(self) -> tuple[Constraint, ...]:

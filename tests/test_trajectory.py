@@ -362,3 +362,10 @@ def test_oversized_json_is_refused_before_it_is_read(tmp_path, monkeypatch):
         Trajectory.from_json(json.dumps(text))
     with pytest.raises(InvalidInputError, match="JSON text or a file path"):
         Trajectory.from_json(5)
+
+
+def test_joint_names_may_come_from_a_generator():
+    # The names were checked in one pass over the argument and taken in a second: a
+    # generator came out empty ("got 0 names").
+    traj = Trajectory.constant([0.0, 1.0], 1.0, joint_names=(name for name in ("a", "b")))
+    assert traj.joint_names == ("a", "b")
