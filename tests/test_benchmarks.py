@@ -227,3 +227,16 @@ def test_outcome_is_the_same_from_worker_processes(outcome_quick, tmp_path, monk
     out = tmp_path / "outcome.md"
     assert module.main(["--quick", "--workers", "2", "--out", str(out)]) == 0
     assert out.read_text() == serial
+
+
+def test_fingerprint_compare_finds_a_moved_number_and_passes_an_unmoved_one(tmp_path, monkeypatch):
+    module = _load("fingerprint", monkeypatch)
+    before = {"shot": {"duration": 1.0, "q": [0.5, 0.25], "status": "ok"}}
+    assert list(module.differences(before, before, 1e-9)) == []
+    moved = {"shot": {"duration": 1.0 + 1e-6, "q": [0.5, 0.25], "status": "ok"}}
+    assert list(module.differences(before, moved, 1e-9)) == ["/shot/duration: 1.0 -> 1.000001"]
+    assert list(module.differences(before, moved, 1e-5)) == []
+    renamed = {"shot": {"duration": 1.0, "q": [0.5, 0.25], "status": "failed"}}
+    assert list(module.differences(before, renamed, 1e-9)) == ["/shot/status: 'ok' -> 'failed'"]
+    assert module._is_wall("nlp_time") and module._is_wall("contact_time")
+    assert not module._is_wall("motion_time") and not module._is_wall("duration_from")
