@@ -35,10 +35,10 @@ from benchmarking import SEED, SPEED, pool_shots, progress, shot_arguments, writ
 from optraj import problems
 from optraj.errors import CONTACT_CHOICE, WINDOW_CHECK, InfeasibleError, OptrajError
 from optraj.planners.checker import Report, check
-from optraj.planners.classic_strike import ClassicStrike
-from optraj.planners.optimal_control import OptimalControl
-from optraj.planners.seed_strike import SeedStrike
-from optraj.planners.strike import TimeOptimalStrike
+from optraj.planners.ocp.optimal_control import OptimalControl
+from optraj.planners.strike.classic_strike import ClassicStrike
+from optraj.planners.strike.seed_strike import SeedStrike
+from optraj.planners.strike.time_optimal_strike import TimeOptimalStrike
 
 RESULTS = Path(__file__).resolve().parent / "results"
 

@@ -4,8 +4,8 @@
    directly on the same cases (median over the cases, ratio wrapper / direct). Goals: <= 1.1x
    for TOPPRA, <= 1.5x for Ruckig.
 2. Motion duration of cubic, LSPB, TOPPRA and Ruckig for the same random rest-to-rest moves of
-   Sawyer, youBot and Panda, relative to ``planners.lower_bound`` (the time no trajectory can
-   beat under the joint velocity, acceleration and jerk limits).
+   Sawyer, youBot and Panda, relative to ``planners.lower_bound`` (the time no trajectory
+   can beat under the joint velocity, acceleration and jerk limits).
 
 Writes ``benchmarks/results/time_optimal.md`` and prints it.
 
@@ -30,7 +30,7 @@ import toppra.constraint
 from benchmarking import progress, write_report
 from optraj import planners, problems, robots
 from optraj.errors import MissingDependencyError, OptrajError
-from optraj.planners.lower_bound import lower_bound
+from optraj.planners.time_optimal.lower_bound import lower_bound
 
 RESULTS = Path(__file__).resolve().parent / "results"
 

@@ -42,7 +42,7 @@ from benchmarking import SEED, SPEED, pool_shots, progress, shot_arguments, writ
 from optraj import controllers, problems
 from optraj.controllers.simulation import Impulse, Noise, Result, simulate
 from optraj.errors import CompilerError, OptrajError
-from optraj.planners.optimal_control import OptimalControl
+from optraj.planners.ocp.optimal_control import OptimalControl
 from optraj.planners.trajectory import Trajectory
 from optraj.robots import Robot
 

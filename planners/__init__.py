@@ -11,22 +11,31 @@ True
 """
 
 from optraj.planners.base import JointProfile, Planner
-from optraj.planners.cartesian import CartesianStraightLine, LinearTrajectory, follow_tool_path
 from optraj.planners.checker import Finding, Report, check
-from optraj.planners.classic_strike import ClassicStrike
-from optraj.planners.contact import ContactChoice, choose_contact, contact_choices, contact_near
-from optraj.planners.lower_bound import lower_bound
-from optraj.planners.lspb import LSPB
-from optraj.planners.optimal_control import OptimalControl, OptimalControlProblem
-from optraj.planners.ruckig_planner import OnlineRuckig, Ruckig
-from optraj.planners.seed_strike import SeedStrike
-from optraj.planners.sequencer import PickAndPlacePlanner
-from optraj.planners.strike import TimeOptimalStrike
-from optraj.planners.time_scaling import Cubic, Quintic
-from optraj.planners.toppra_planner import Toppra
+from optraj.planners.ocp.optimal_control import OptimalControl, OptimalControlProblem
+from optraj.planners.profiles.cartesian import (
+    CartesianStraightLine,
+    LinearTrajectory,
+    follow_tool_path,
+)
+from optraj.planners.profiles.lspb import LSPB
+from optraj.planners.profiles.sequencer import PickAndPlacePlanner
+from optraj.planners.profiles.time_scaling import Cubic, Quintic
+from optraj.planners.profiles.via_points import ViaPoints
+from optraj.planners.strike.classic_strike import ClassicStrike
+from optraj.planners.strike.contact import (
+    ContactChoice,
+    choose_contact,
+    contact_choices,
+    contact_near,
+)
+from optraj.planners.strike.seed_strike import SeedStrike
+from optraj.planners.strike.time_optimal_strike import TimeOptimalStrike
+from optraj.planners.strike.window_check import WindowCheck, WindowRatio
+from optraj.planners.time_optimal.lower_bound import lower_bound
+from optraj.planners.time_optimal.ruckig_planner import OnlineRuckig, Ruckig
+from optraj.planners.time_optimal.toppra_planner import Toppra
 from optraj.planners.trajectory import Phase, Trajectory, TrajectorySample
-from optraj.planners.via_points import ViaPoints
-from optraj.planners.window_check import WindowCheck, WindowRatio
 
 __all__ = [
     "LSPB",

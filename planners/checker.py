@@ -78,8 +78,9 @@ QUANTITIES: tuple[str, ...] = ("position", "velocity", "acceleration", "jerk", "
 STRIKE_WINDOW_TOLERANCE = 1e-6
 
 #: The round-off rule, one for every comparison the checker makes (and for the planners that
-#: promise to pass it, e.g. :mod:`planners.ruckig_planner`): a computed value is taken to meet
-#: a bound, or to equal another value, when it misses by at most :func:`round_off`, i.e.
+#: promise to pass it, e.g. :mod:`planners.time_optimal.ruckig_planner`): a computed value is
+#: taken to meet a bound, or to equal another value, when it misses by at most
+#: :func:`round_off`, i.e.
 #: ``RELATIVE_SLACK * scale + ABSOLUTE_SLACK + TIME_ROUND_OFF * max(1, T) * |slope|``: a
 #: relative error of the value (scale: the limit, the range, or the magnitudes summed to
 #: compute it) plus the change of the value over the round-off of the time at which it is
@@ -90,8 +91,8 @@ RELATIVE_SLACK = 1e-9
 ABSOLUTE_SLACK = 1e-12
 #: Round-off of a time [s] per second of duration (at least 1 s): 64 machine epsilons, room
 #: for a breakpoint that is a sum of a few dozen rounded durations. Breakpoints that come
-#: closer than this are one instant (:func:`planners.ruckig_planner.native_to_trajectory`
-#: merges them).
+#: closer than this are one instant
+#: (:func:`planners.time_optimal.ruckig_planner.native_to_trajectory` merges them).
 TIME_ROUND_OFF = 64.0 * float(np.finfo(float).eps)
 #: Relative size below which a leading polynomial coefficient is treated as zero when its
 #: roots are sought (a few machine epsilons: dropping it moves the polynomial by less than

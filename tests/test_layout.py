@@ -92,13 +92,28 @@ def test_packages_declare_all_and_are_typed(package):
 
 
 def test_test_file_per_module():
+    # The tests mirror the packages: planners/ocp/transcription.py is tested by
+    # tests/planners/ocp/test_transcription.py.
     missing = [
         str(path.relative_to(ROOT))
         for package in ["optraj", *ORDER]
-        for path in (ROOT / package).glob("*.py")
-        if path.name != "__init__.py" and not (ROOT / "tests" / f"test_{path.stem}.py").exists()
+        for path in (ROOT / package).rglob("*.py")
+        if path.name != "__init__.py"
+        and not (ROOT / "tests" / path.parent.relative_to(ROOT) / f"test_{path.name}").exists()
     ]
-    assert missing == [], f"modules without tests/test_<module>.py: {missing}"
+    assert missing == [], f"modules without a mirrored tests/.../test_<module>.py: {missing}"
+
+
+def test_every_test_file_mirrors_a_module_or_is_a_whole_project_test():
+    whole_project = {"test_benchmarks.py", "test_layout.py", "test_notebooks.py", "test_readme.py"}
+    orphans = []
+    for path in sorted((ROOT / "tests").rglob("test_*.py")):
+        folder = path.parent.relative_to(ROOT / "tests")
+        if folder.parts[:1] == ("fuzz",) or (folder == Path(".") and path.name in whole_project):
+            continue
+        if not (ROOT / folder / path.name.removeprefix("test_")).exists():
+            orphans.append(str(path.relative_to(ROOT)))
+    assert orphans == [], f"test files that mirror no module: {orphans}"
 
 
 def test_importing_optraj_is_cheap_and_robots_is_headless():

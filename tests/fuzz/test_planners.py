@@ -131,7 +131,7 @@ _SAWYER_ZERO_POSE = [
 #: Reproducers of what the fuzz runs found: (id, planner, problem, xfail reason while the
 #: library fix is open, else None). All are fixed; they stay as regression cases.
 KNOWN = [
-    # Found: numpy LinAlgError (singular J J^T) in planners/cartesian.py _joint_rates.
+    # Found: numpy LinAlgError (singular J J^T) in planners/profiles/cartesian.py _joint_rates.
     (
         "zero-length line at Sawyer's stretched-out q = 0",
         PlannerSpec("CartesianStraightLine", ("quintic",)),

@@ -1,0 +1,474 @@
+"""Cubic and quintic polynomial time scalings, joint by joint, all joints synchronised.
+
+A cubic meets positions and velocities at both ends (the ECE486 seed uses the rest-to-rest
+form s(t) = 3 (t/T)^2 - 2 (t/T)^3); a quintic also meets accelerations (Coursework 3 Q1a solves
+its 6x6 system; here it is solved in closed form). Without a fixed duration, the shortest one
+whose velocity, acceleration (and, for the quintic, jerk) peaks fit the limits is found; the
+peaks are evaluated exactly at the roots of the derivative polynomials.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from optraj.errors import InfeasibleError, InvalidInputError, UnknownNameError
+from optraj.planners.base import (
+    JointProfile,
+    refuse_prescribed_accelerations,
+    rest_to_rest_inputs,
+    stamp,
+)
+from optraj.planners.profiles.cartesian import paddle_contact_velocity
+from optraj.planners.trajectory import Phase, Trajectory
+from optraj.problems import PaddleStrike, PointToPoint
+from optraj.robots import JointLimits
+from optraj.validation import MIN_DURATION, as_duration
+
+__all__ = [
+    "Cubic",
+    "Quintic",
+    "cubic_coefficients",
+    "polynomial_peaks",
+    "quintic_coefficients",
+    "rate_limit_error",
+    "worst_rate_limit",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: Relative slack on limits when searching for the shortest duration (round-off only).
+_SLACK = 1e-9
+
+
+def cubic_coefficients(
+    q0: ArrayLike, q1: ArrayLike, duration: float, v0: ArrayLike = 0.0, v1: ArrayLike = 0.0
+) -> FloatArray:
+    """Coefficients of q(t) = c0 + c1 t + c2 t^2 + c3 t^3 meeting (q, qd) at t = 0 and T.
+
+    Args:
+        q0: Start positions [rad or m], shape (n,).
+        q1: End positions, shape (n,).
+        duration: T [s].
+        v0: Start velocities [rad/s or m/s], shape (n,) or scalar.
+        v1: End velocities, shape (n,) or scalar.
+
+    Returns:
+        Shape (4, n), row i multiplying t^i.
+    """
+    p0, p1 = np.asarray(q0, float), np.asarray(q1, float)
+    d0, d1 = np.broadcast_to(v0, p0.shape), np.broadcast_to(v1, p0.shape)
+    h = float(duration)
+    c2 = (3.0 * (p1 - p0) - (2.0 * d0 + d1) * h) / h**2
+    c3 = (2.0 * (p0 - p1) + (d0 + d1) * h) / h**3
+    return np.stack([p0, d0, c2, c3])
+
+
+def quintic_coefficients(
+    q0: ArrayLike,
+    q1: ArrayLike,
+    duration: float,
+    v0: ArrayLike = 0.0,
+    v1: ArrayLike = 0.0,
+    a0: ArrayLike = 0.0,
+    a1: ArrayLike = 0.0,
+) -> FloatArray:
+    """Coefficients of the quintic meeting (q, qd, qdd) at t = 0 and t = T.
+
+    The three end conditions on c3, c4, c5 form a 3x3 linear system whose closed-form
+    solution is used here (the rest of the 6x6 system gives c0 = q0, c1 = v0, c2 = a0 / 2).
+
+    Returns:
+        Shape (6, n), row i multiplying t^i [rad/s^i or m/s^i].
+    """
+    p0, p1 = np.asarray(q0, float), np.asarray(q1, float)
+    d0, d1 = np.broadcast_to(v0, p0.shape), np.broadcast_to(v1, p0.shape)
+    b0, b1 = np.broadcast_to(a0, p0.shape), np.broadcast_to(a1, p0.shape)
+    h = float(duration)
+    dp = p1 - p0 - d0 * h - 0.5 * b0 * h**2
+    dv = d1 - d0 - b0 * h
+    da = b1 - b0
+    c3 = (20.0 * dp - 8.0 * dv * h + da * h**2) / (2.0 * h**3)
+    c4 = (-30.0 * dp + 14.0 * dv * h - 2.0 * da * h**2) / (2.0 * h**4)
+    c5 = (12.0 * dp - 6.0 * dv * h + da * h**2) / (2.0 * h**5)
+    return np.stack([p0, d0, 0.5 * b0, c3, c4, c5])
+
+
+def _derivative(coefficients: FloatArray) -> FloatArray:
+    powers = np.arange(1, coefficients.shape[0], dtype=float)[:, None]
+    return coefficients[1:] * powers
+
+
+def _abs_max(coefficients: FloatArray, duration: float) -> tuple[FloatArray, FloatArray]:
+    """Largest |p(t)| on [0, T] per column and where it occurs (endpoints or stationary points)."""
+    n = coefficients.shape[1]
+    peaks = np.zeros(n)
+    times = np.zeros(n)
+    slope = _derivative(coefficients) if coefficients.shape[0] > 1 else None
+    for j in range(n):
+        candidates = [0.0, duration]
+        if slope is not None and np.any(slope[:, j] != 0.0):
+            roots = np.roots(slope[::-1, j])
+            real = roots[np.abs(roots.imag) < 1e-9].real
+            candidates.extend(t for t in real if 0.0 < t < duration)
+        values = np.abs(np.polynomial.polynomial.polyval(np.array(candidates), coefficients[:, j]))
+        k = int(np.argmax(values))
+        peaks[j], times[j] = values[k], candidates[k]
+    return peaks, times
+
+
+def polynomial_peaks(coefficients: ArrayLike, duration: float) -> dict[str, FloatArray]:
+    """Exact peak |velocity|, |acceleration| and |jerk| of one polynomial per joint on [0, T].
+
+    Args:
+        coefficients: Shape (d + 1, n), row i multiplying t^i.
+        duration: T [s].
+
+    Returns:
+        ``{"position_min", "position_max", "velocity", "acceleration", "jerk"}``, each shape
+        (n,) (absolute peaks for the derivatives).
+    """
+    coeffs = np.asarray(coefficients, float)
+    velocity = _derivative(coeffs)
+    acceleration = (
+        _derivative(velocity) if velocity.shape[0] > 1 else np.zeros((1, coeffs.shape[1]))
+    )
+    jerk = (
+        _derivative(acceleration) if acceleration.shape[0] > 1 else np.zeros((1, coeffs.shape[1]))
+    )
+    # Position extremes: endpoints and roots of the velocity.
+    lows, highs = np.empty(coeffs.shape[1]), np.empty(coeffs.shape[1])
+    for j in range(coeffs.shape[1]):
+        candidates = [0.0, duration]
+        if np.any(velocity[:, j] != 0.0):
+            roots = np.roots(velocity[::-1, j])
+            candidates.extend(r.real for r in roots if abs(r.imag) < 1e-9 and 0 < r.real < duration)
+        values = np.polynomial.polynomial.polyval(np.array(candidates), coeffs[:, j])
+        lows[j], highs[j] = values.min(), values.max()
+    return {
+        "position_min": lows,
+        "position_max": highs,
+        "velocity": _abs_max(velocity, duration)[0],
+        "acceleration": _abs_max(acceleration, duration)[0],
+        "jerk": _abs_max(jerk, duration)[0],
+    }
+
+
+def worst_rate_limit(
+    peaks: dict[str, FloatArray],
+    limits: JointLimits,
+    quantities: tuple[str, ...],
+    slack: float = _SLACK,
+) -> tuple[str, int, float, float] | None:
+    """The worst rate limit that peaks break, as (quantity, joint, needed, allowed), or None.
+
+    Args:
+        peaks: Peaks per quantity, as returned by :func:`polynomial_peaks`.
+        limits: The limits.
+        quantities: Quantities to compare, e.g. ``("velocity", "acceleration")``.
+        slack: Relative excess tolerated (round-off).
+    """
+    worst: tuple[str, int, float, float] | None = None
+    worst_ratio = 1.0 + slack
+    for quantity in quantities:
+        allowed = getattr(limits, quantity)
+        ratio = peaks[quantity] / allowed
+        j = int(np.argmax(ratio))
+        if ratio[j] > worst_ratio:
+            worst = (quantity, j, float(peaks[quantity][j]), float(allowed[j]))
+            worst_ratio = float(ratio[j])
+    return worst
+
+
+def rate_limit_error(
+    worst: tuple[str, int, float, float], limits: JointLimits, subject: str, context: str = ""
+) -> InfeasibleError:
+    """The error for a broken rate limit, :func:`worst_rate_limit`'s ``worst``.
+
+    Reads "<subject> needs joint 'j' at <needed> <unit> (<quantity>), limit <allowed>
+    <unit><context>".
+    """
+    quantity, j, needed, allowed = worst
+    unit = limits.unit(quantity, j)
+    return _limit_error(
+        worst,
+        limits,
+        f"{subject} needs joint {limits.names[j]!r} at {needed:.4g} {unit} ({quantity}), "
+        f"limit {allowed:.4g} {unit}{context}",
+    )
+
+
+def _limit_error(
+    worst: tuple[str, int, float, float], limits: JointLimits, message: str
+) -> InfeasibleError:
+    """An InfeasibleError with ``message`` and the fields of ``worst``: quantity, joint, etc."""
+    quantity, j, needed, allowed = worst
+    return InfeasibleError(
+        message, limit=quantity, joint=limits.names[j], required=needed, allowed=allowed
+    )
+
+
+class _Polynomial(JointProfile):
+    """Shared machinery of the cubic and quintic scalings."""
+
+    degree = 3
+    #: Which limits the profile keeps (a cubic's jerk is not bounded at its ends).
+    limited: tuple[str, ...] = ("velocity", "acceleration")
+
+    def __init__(self, duration: float | None = None) -> None:
+        """Args: duration: Fixed duration [s] for every move, or None (shortest in limits)."""
+        self.duration = None if duration is None else as_duration(duration, "duration")
+
+    # -- to be provided by the subclasses
+    def _coefficients(
+        self, q0: FloatArray, q1: FloatArray, duration: float, boundary: dict[str, FloatArray]
+    ) -> FloatArray:
+        raise NotImplementedError
+
+    def _check(
+        self,
+        coeffs: FloatArray,
+        duration: float,
+        limits: JointLimits,
+        slack: float = _SLACK,
+    ) -> tuple[str, int, float, float] | None:
+        """The worst limit broken as (quantity, joint, needed, allowed), or None."""
+        peaks = polynomial_peaks(coeffs, duration)
+        below = limits.lower - peaks["position_min"]
+        above = peaks["position_max"] - limits.upper
+        for excess, values, bound in (
+            (below, peaks["position_min"], limits.lower),
+            (above, peaks["position_max"], limits.upper),
+        ):
+            j = int(np.argmax(excess))
+            if excess[j] > 1e-9:
+                return "position", j, float(values[j]), float(bound[j])
+        return worst_rate_limit(peaks, limits, self.limited, slack)
+
+    def _shortest(
+        self, q0: FloatArray, q1: FloatArray, limits: JointLimits, boundary: dict[str, FloatArray]
+    ) -> float:
+        """Shortest duration whose peaks fit the limits.
+
+        Rest to rest, q(t) = q0 + (q1 - q0) s(t / T) for a fixed shape s, so the k-th
+        derivative peaks scale exactly as 1 / T^k: one evaluation at T = 1 gives T. With
+        moving ends the shape changes with T: doubling, then bisection. A rest-to-rest move
+        lasts at least MIN_DURATION [s].
+        """
+        if all(not np.any(value) for value in boundary.values()):
+            peaks = polynomial_peaks(self._coefficients(q0, q1, 1.0, boundary), 1.0)
+            order = {"velocity": 1, "acceleration": 2, "jerk": 3}
+            needs = [
+                np.max(peaks[quantity] / getattr(limits, quantity)) ** (1.0 / order[quantity])
+                for quantity in self.limited
+            ]
+            shortest = float(max(needs))
+            if shortest > 0.0:
+                # a tiny move lasts MIN_DURATION, the shortest duration any planner takes
+                return max(shortest * (1.0 + 1e-12), MIN_DURATION)
+        high = 1e-3
+        while failure := self._check(self._coefficients(q0, q1, high, boundary), high, limits):
+            high *= 2.0
+            if high > 1e4:
+                quantity, j, needed, allowed = failure
+                raise _limit_error(
+                    failure,
+                    limits,
+                    f"no {self.name} of any duration keeps joint {limits.names[j]!r} within its "
+                    f"{quantity} limit ({needed:.4g} needed, {allowed:.4g} allowed)",
+                )
+        low = high / 2.0 if high > 1e-3 else 0.0
+        for _ in range(60):
+            middle = 0.5 * (low + high)
+            if middle <= 0.0:
+                break
+            if self._check(self._coefficients(q0, q1, middle, boundary), middle, limits) is None:
+                high = middle
+            else:
+                low = middle
+            if high - low < 1e-9 * high:
+                break
+        return high
+
+    def _segment(
+        self,
+        q0: FloatArray,
+        q1: FloatArray,
+        limits: JointLimits,
+        duration: float | None,
+        boundary: dict[str, FloatArray],
+    ) -> Trajectory:
+        if duration is None:
+            duration = self._shortest(q0, q1, limits, boundary)
+        coeffs = self._coefficients(q0, q1, duration, boundary)
+        failure = self._check(coeffs, duration, limits)
+        if failure is not None:
+            raise rate_limit_error(failure, limits, f"{self.name} in {duration:.4g} s")
+        return Trajectory([0.0, duration], coeffs[None], joint_names=limits.names)
+
+    def move(
+        self,
+        q_start: ArrayLike,
+        q_goal: ArrayLike,
+        limits: JointLimits,
+        duration: float | None = None,
+    ) -> Trajectory:
+        """Rest-to-rest move (see :meth:`JointProfile.move`).
+
+        Raises:
+            InfeasibleError: A fixed duration that breaks a limit (names joint, needed and
+                allowed values).
+            InvalidInputError: Bad inputs, or q_goal equals q_start and neither the call nor
+                the planner gives a duration.
+        """
+        if duration is None:
+            duration = self.duration
+        q0, q1, duration = rest_to_rest_inputs(q_start, q_goal, limits, duration, self.name)
+        zeros = np.zeros(limits.n)
+        boundary = {"v0": zeros, "v1": zeros, "a0": zeros, "a1": zeros}
+        return self._segment(q0, q1, limits, duration, boundary)
+
+    def plan(self, problem: PointToPoint | PaddleStrike) -> Trajectory:  # type: ignore[override]
+        """Plan a PointToPoint, or a paddle4 strike (the seed's: arrive at rest).
+
+        A PointToPoint may start and end moving (a cubic meets velocities, a quintic also
+        accelerations). A paddle strike at speed approaches the ball in contact_time and then
+        stops within the limits.
+
+        Raises:
+            InfeasibleError: No motion of this kind fits the limits.
+            InvalidInputError: A problem this profile cannot plan, or a rest-to-rest
+                PointToPoint whose goal equals its start without a duration (from the
+                problem or the planner).
+        """
+        started = time.perf_counter()
+        if isinstance(problem, PaddleStrike):
+            traj = self._paddle(problem)
+            return stamp(traj, self.name, started)
+        if not isinstance(problem, PointToPoint):
+            raise InvalidInputError(
+                f"{type(self).__name__} plans a PointToPoint or a PaddleStrike, got "
+                f"{type(problem).__name__}",
+                name="problem",
+            )
+        if self.duration is None:
+            problem.require_motion(self.name)
+        boundary = self._boundary(problem)
+        duration = problem.duration if problem.duration is not None else self.duration
+        segment = self._segment(
+            np.asarray(problem.q_start),
+            np.asarray(problem.q_goal),
+            problem.limits,
+            duration,
+            boundary,
+        )
+        traj = Trajectory(
+            segment.breakpoints,
+            segment.coefficients,
+            joint_names=problem.limits.names,
+            phases=[Phase("move", 0.0, segment.duration)],
+        )
+        return stamp(traj, self.name, started)
+
+    def _boundary(self, problem: PointToPoint) -> dict[str, FloatArray]:
+        n = problem.limits.n
+        zeros = np.zeros(n)
+        boundary = {
+            "v0": np.asarray(problem.qd_start),
+            "v1": np.asarray(problem.qd_goal),
+            "a0": zeros if problem.qdd_start is None else np.asarray(problem.qdd_start),
+            "a1": zeros if problem.qdd_goal is None else np.asarray(problem.qdd_goal),
+        }
+        if self.degree < 5:  # a rest-to-rest cubic starts at 6 delta / T^2
+            refuse_prescribed_accelerations(problem, f"a {self.name}")
+        return boundary
+
+    def _paddle(self, problem: PaddleStrike) -> Trajectory:
+        """Approach the ball in contact_time; at speed, then stop as fast as the limits allow."""
+        limits = problem.limits
+        q0, qc = np.asarray(problem.q_start), np.asarray(problem.q_contact)
+        zeros = np.zeros(limits.n)
+        if float(problem.speed) == 0.0:
+            boundary = {"v0": zeros, "v1": zeros, "a0": zeros, "a1": zeros}
+            approach = self._segment(q0, qc, limits, float(problem.contact_time), boundary)
+            return Trajectory(
+                approach.breakpoints,
+                approach.coefficients,
+                joint_names=limits.names,
+                phases=[Phase("approach", 0.0, approach.duration)],
+            )
+        qd_contact = paddle_contact_velocity(problem)
+        boundary = {"v0": zeros, "v1": qd_contact, "a0": zeros, "a1": zeros}
+        approach = self._segment(q0, qc, limits, float(problem.contact_time), boundary)
+        stop_boundary = {"v0": qd_contact, "v1": zeros, "a0": zeros, "a1": zeros}
+        # Coast to a stop: for the stop time T, end where the velocity would carry it in T/2.
+        stop = None
+        for stop_time in np.geomspace(0.05, 5.0, 60):
+            q_end = qc + 0.5 * stop_time * qd_contact
+            if not limits.contains(q_end):
+                continue
+            coeffs = self._coefficients(qc, q_end, stop_time, stop_boundary)
+            if self._check(coeffs, stop_time, limits) is None:
+                stop = Trajectory([0.0, stop_time], coeffs[None], joint_names=limits.names)
+                break
+        if stop is None:
+            raise InfeasibleError(
+                f"the paddle cannot stop within its limits after meeting the ball at "
+                f"{float(problem.speed):.3g} m/s",
+                limit="position",
+            )
+        return Trajectory.sequence(
+            [("approach", [approach]), ("stop", [stop])], joint_names=limits.names
+        )
+
+
+class Cubic(_Polynomial):
+    """Cubic time scaling: meets positions and velocities at both ends.
+
+    Rest to rest, every joint follows q0 + (q1 - q0) s(t/T) with s = 3 x^2 - 2 x^3 (peak
+    velocity 1.5 delta/T, peak acceleration 6 delta/T^2). Keeps velocity and acceleration
+    limits; its acceleration jumps at the ends.
+    """
+
+    name = "cubic"
+    degree = 3
+    limited = ("velocity", "acceleration")
+
+    def _coefficients(
+        self, q0: FloatArray, q1: FloatArray, duration: float, boundary: dict[str, FloatArray]
+    ) -> FloatArray:
+        return cubic_coefficients(q0, q1, duration, boundary["v0"], boundary["v1"])
+
+
+class Quintic(_Polynomial):
+    """Quintic time scaling: meets positions, velocities and accelerations at both ends.
+
+    Rest to rest, s = 10 x^3 - 15 x^4 + 6 x^5 (peak velocity 1.875 delta/T, acceleration
+    5.774 delta/T^2, jerk 60 delta/T^3). Keeps velocity, acceleration and jerk limits.
+    """
+
+    name = "quintic"
+    degree = 5
+    limited = ("velocity", "acceleration", "jerk")
+
+    def _coefficients(
+        self, q0: FloatArray, q1: FloatArray, duration: float, boundary: dict[str, FloatArray]
+    ) -> FloatArray:
+        return quintic_coefficients(
+            q0, q1, duration, boundary["v0"], boundary["v1"], boundary["a0"], boundary["a1"]
+        )
+
+
+def profile_by_name(name: str) -> JointProfile:
+    """A default-constructed profile by name: ``"cubic"``, ``"quintic"`` or ``"lspb"``."""
+    if name == "cubic":
+        return Cubic()
+    if name == "quintic":
+        return Quintic()
+    if name == "lspb":
+        from optraj.planners.profiles.lspb import LSPB
+
+        return LSPB()
+    raise UnknownNameError("profile", name, ["cubic", "quintic", "lspb"])
