@@ -135,3 +135,50 @@ def test_no_module_imports_private_names_of_another():
                 if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("optraj"):
                     private = [a.name for a in node.names if a.name.startswith("_")]
                     assert not private, f"{path.relative_to(ROOT)} imports {private}"
+
+
+MODULE_LINES = 600  # physical lines per module
+CLASS_LINES = 400  # physical lines per class
+FUNCTION_LINES = 80  # lines of code per function: no docstring, blank or comment-only lines
+
+
+def _code_lines(node: ast.AST, source: list[str]) -> int:
+    docstring = set()
+    body = getattr(node, "body", [])
+    if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant):
+        docstring = set(range(body[0].lineno, body[0].end_lineno + 1))
+    return sum(
+        1
+        for number in range(node.lineno, node.end_lineno + 1)
+        if number not in docstring and source[number - 1].strip()[:1] not in ("", "#")
+    )
+
+
+def _oversized(path: Path) -> list[str]:
+    text = path.read_text()
+    source = text.splitlines()
+    found = []
+    if len(source) > MODULE_LINES:
+        found.append(f"module of {len(source)} lines > {MODULE_LINES}")
+    for node in ast.walk(ast.parse(text)):
+        if isinstance(node, ast.ClassDef):
+            length = node.end_lineno - node.lineno + 1
+            if length > CLASS_LINES:
+                found.append(f"class {node.name} of {length} lines > {CLASS_LINES}")
+        elif isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+            length = _code_lines(node, source)
+            if length > FUNCTION_LINES:
+                found.append(f"function {node.name} of {length} code lines > {FUNCTION_LINES}")
+    return found
+
+
+@pytest.mark.parametrize(
+    "module",
+    [
+        str(path.relative_to(ROOT))
+        for folder in ["optraj", *ORDER]
+        for path in sorted((ROOT / folder).rglob("*.py"))
+    ],
+)
+def test_modules_classes_and_functions_stay_small(module):
+    assert _oversized(ROOT / module) == []
