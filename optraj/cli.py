@@ -20,7 +20,7 @@ import os
 import subprocess
 import sys
 import textwrap
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any, NoReturn, TextIO
 
@@ -43,14 +43,30 @@ PROBLEMS: dict[str, str | None] = {
     "pick-and-place": "youbot",
     "point-to-point": None,
 }
-_OPTIMAL_CONTROL = ("optimal-control", "optimal-control-jerk")
-#: The planners of each problem, by command-line name.
-PLANNERS: dict[str, tuple[str, ...]] = {
-    "pool-shot": ("seed", "cubic", "quintic", "lspb", "toppra", "ruckig", *_OPTIMAL_CONTROL),
-    "paddle-strike": ("cubic", "quintic", "toppra", "ruckig", *_OPTIMAL_CONTROL),
-    "pick-and-place": ("cubic", "quintic", "lspb", "ruckig"),
-    "point-to-point": ("cubic", "quintic", "lspb", "toppra", "ruckig", *_OPTIMAL_CONTROL),
-}
+
+
+class _Planners(Mapping[str, tuple[str, ...]]):
+    """The planners of each problem, by command-line name, from the planner registry.
+
+    Read on first use, so that the command starts without importing the planners.
+    """
+
+    def __getitem__(self, problem: str) -> tuple[str, ...]:
+        if problem not in PROBLEMS:
+            raise KeyError(problem)
+        from optraj.planners import registry
+
+        return registry.planner_names(problem)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(PROBLEMS)
+
+    def __len__(self) -> int:
+        return len(PROBLEMS)
+
+
+#: The planners of each problem, by command-line name (from the planner registry).
+PLANNERS: Mapping[str, tuple[str, ...]] = _Planners()
 #: Options of ``optraj plan`` and the problems they apply to.
 _OPTION_PROBLEMS: dict[str, tuple[str, ...]] = {
     "speed": ("pool-shot", "paddle-strike"),
@@ -72,33 +88,11 @@ def make_planner(problem: str, name: str) -> Any:
         UnknownNameError: An unknown problem, or a planner that does not plan it (lists the
             ones that do).
     """
-    if problem not in PLANNERS:
-        raise UnknownNameError("problem", problem, PLANNERS)
-    if name not in PLANNERS[problem]:
-        raise UnknownNameError(f"planner for {problem}", name, PLANNERS[problem])
-    from optraj import planners
+    if problem not in PROBLEMS:
+        raise UnknownNameError("problem", problem, PROBLEMS)
+    from optraj.planners import registry
 
-    if name.startswith("optimal-control"):
-        return planners.OptimalControl(objective="jerk" if name.endswith("jerk") else "time")
-    if problem == "pool-shot":
-        if name == "seed":
-            return planners.SeedStrike()
-        if name in ("toppra", "ruckig"):
-            return planners.TimeOptimalStrike(name)
-        return planners.ClassicStrike(name)
-    if problem == "paddle-strike":
-        if name in ("toppra", "ruckig"):
-            return planners.TimeOptimalStrike(name)
-        return planners.Cubic() if name == "cubic" else planners.Quintic()
-    profiles: dict[str, Callable[[], Any]] = {
-        "cubic": planners.Cubic,
-        "quintic": planners.Quintic,
-        "lspb": planners.LSPB,
-        "toppra": planners.Toppra,
-        "ruckig": planners.Ruckig,
-    }
-    profile = profiles[name]()
-    return planners.PickAndPlacePlanner(profile) if problem == "pick-and-place" else profile
+    return registry.make_planner(problem, name)
 
 
 def _check_fit(robot: str, problem: str) -> None:

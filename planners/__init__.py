@@ -22,6 +22,7 @@ from optraj.planners.profiles.lspb import LSPB
 from optraj.planners.profiles.sequencer import PickAndPlacePlanner
 from optraj.planners.profiles.time_scaling import Cubic, Quintic
 from optraj.planners.profiles.via_points import ViaPoints
+from optraj.planners.registry import make_planner, planner_names, register_planner
 from optraj.planners.strike.classic_strike import ClassicStrike
 from optraj.planners.strike.contact import (
     ContactChoice,
@@ -69,4 +70,7 @@ __all__ = [
     "contact_near",
     "follow_tool_path",
     "lower_bound",
+    "make_planner",
+    "planner_names",
+    "register_planner",
 ]

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
 from optraj.problems.common import (
@@ -19,6 +19,9 @@ from optraj.problems.constraints import BoundaryState, Constraint, ToolPath
 from optraj.problems.point_to_point import STILL_TOLERANCE, still_error
 from optraj.robots import JointLimits, Robot, solve_ik
 from optraj.validation import as_duration, as_transform, as_vector
+
+#: Arrays the problem stores after checking its inputs (it takes any array-like).
+FloatArray = NDArray[np.float64]
 
 __all__ = ["CartesianLine"]
 
@@ -43,10 +46,10 @@ class CartesianLine:
     robot: Robot
     T_start: ArrayLike
     T_goal: ArrayLike
-    q_start: ArrayLike | None = None
+    q_start: FloatArray = None  # type: ignore[assignment]  # None: resolved in __post_init__
     duration: float | None = None
     speed: float | None = None
-    limits: JointLimits | None = None
+    limits: JointLimits = None  # type: ignore[assignment]  # None: the robot's (__post_init__)
     position_tolerance: float = 1e-4
     angle_tolerance: float = 1e-3
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import NDArray
 
 from optraj.problems.common import (
     MAX_TOOL_SPEED,
@@ -19,6 +19,9 @@ from optraj.problems.constraints import BoundaryState, Constraint, ToolContact
 from optraj.robots import JointLimits, Robot, paddle4_ik
 from optraj.robots.paddle_ik import BALL_OFFSET
 from optraj.validation import as_duration, as_number, as_vector
+
+#: Arrays the problem stores after checking its inputs (it takes any array-like).
+FloatArray = NDArray[np.float64]
 
 __all__ = ["PaddleStrike"]
 
@@ -52,16 +55,16 @@ class PaddleStrike:
     """
 
     robot: Robot
-    ball: ArrayLike
+    ball: FloatArray
     contact_angle: float = 0.0
     speed: float = 0.0
     contact_time: float = SEED_CONTACT_TIME
-    q_start: ArrayLike | None = None
-    limits: JointLimits | None = None
+    q_start: FloatArray = None  # type: ignore[assignment]  # None: resolved in __post_init__
+    limits: JointLimits = None  # type: ignore[assignment]  # None: the robot's (__post_init__)
     position_tolerance: float = 1e-6
     angle_tolerance: float = 1e-6
     velocity_tolerance: float = 1e-6
-    q_contact: np.ndarray = field(init=False, repr=False, default=None)  # type: ignore[assignment]
+    q_contact: FloatArray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         robot = check_robot(self.robot, "paddle4")

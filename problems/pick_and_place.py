@@ -5,13 +5,16 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import NDArray
 
 from optraj.errors import InvalidInputError, UnreachableError
 from optraj.problems.common import check_robot, joint_state, positive, resolve_limits, unit_vector
 from optraj.problems.constraints import BoundaryState, Constraint, ToolContact
 from optraj.robots import JointLimits, Robot, solve_ik
 from optraj.validation import as_array, as_duration, as_vector
+
+#: Arrays the problem stores after checking its inputs (it takes any array-like).
+FloatArray = NDArray[np.float64]
 
 __all__ = ["PHASES", "PickAndPlace"]
 
@@ -53,21 +56,21 @@ class PickAndPlace:
     """
 
     robot: Robot
-    picks: ArrayLike
-    pile: ArrayLike
+    picks: FloatArray
+    pile: FloatArray
     block_height: float = 0.03
     clearance: float = 0.05
-    approach: ArrayLike = (0.0, 0.0, -1.0)
+    approach: FloatArray = (0.0, 0.0, -1.0)  # type: ignore[assignment]  # made an array
     grasp_time: float = 0.5
-    q_start: ArrayLike | None = None
-    q_interim: ArrayLike | None = None
-    limits: JointLimits | None = None
+    q_start: FloatArray = None  # type: ignore[assignment]  # None: resolved in __post_init__
+    q_interim: FloatArray = None  # type: ignore[assignment]  # None: resolved in __post_init__
+    limits: JointLimits = None  # type: ignore[assignment]  # None: the robot's (__post_init__)
     position_tolerance: float = 1e-6
     angle_tolerance: float = 1e-6
-    q_above_pick: np.ndarray = field(init=False, repr=False, default=None)  # type: ignore[assignment]
-    q_pick: np.ndarray = field(init=False, repr=False, default=None)  # type: ignore[assignment]
-    q_above_place: np.ndarray = field(init=False, repr=False, default=None)  # type: ignore[assignment]
-    q_place: np.ndarray = field(init=False, repr=False, default=None)  # type: ignore[assignment]
+    q_above_pick: FloatArray = field(init=False, repr=False)
+    q_pick: FloatArray = field(init=False, repr=False)
+    q_above_place: FloatArray = field(init=False, repr=False)
+    q_place: FloatArray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         robot = check_robot(self.robot)

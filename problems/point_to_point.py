@@ -5,13 +5,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
 from optraj.problems.common import check_robot, joint_state, non_negative, resolve_limits
 from optraj.problems.constraints import BoundaryState, Constraint
 from optraj.robots import JointLimits, Robot
 from optraj.validation import as_duration, as_vector
+
+#: Arrays the problem stores after checking its inputs (it takes any array-like).
+FloatArray = NDArray[np.float64]
 
 __all__ = ["STILL_TOLERANCE", "PointToPoint", "is_still", "still_error"]
 
@@ -86,14 +89,14 @@ class PointToPoint:
     """
 
     robot: Robot
-    q_start: ArrayLike
-    q_goal: ArrayLike
-    qd_start: ArrayLike | None = None
-    qd_goal: ArrayLike | None = None
-    qdd_start: ArrayLike | None = None
-    qdd_goal: ArrayLike | None = None
+    q_start: FloatArray
+    q_goal: FloatArray
+    qd_start: FloatArray = None  # type: ignore[assignment]  # None: rest (zeros)
+    qd_goal: FloatArray = None  # type: ignore[assignment]  # None: rest (zeros)
+    qdd_start: FloatArray | None = None
+    qdd_goal: FloatArray | None = None
     duration: float | None = None
-    limits: JointLimits | None = None
+    limits: JointLimits = None  # type: ignore[assignment]  # None: the robot's (__post_init__)
     tolerance: float = 1e-6
 
     def __post_init__(self) -> None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import NDArray
 
 from optraj.errors import InvalidInputError
 from optraj.problems.common import (
@@ -28,6 +28,9 @@ from optraj.problems.constraints import (
 )
 from optraj.robots import JointLimits, Robot, solve_ik
 from optraj.validation import as_vector
+
+#: Arrays the problem stores after checking its inputs (it takes any array-like).
+FloatArray = NDArray[np.float64]
 
 __all__ = ["MAX_WINDOW", "POOL_BALL_RADIUS", "PoolStrike"]
 
@@ -70,18 +73,18 @@ class PoolStrike:
     """
 
     robot: Robot
-    ball: ArrayLike
-    direction: ArrayLike
+    ball: FloatArray
+    direction: FloatArray
     speed: float
     run_up: float = 0.10
     follow_through: float = 0.05
     ball_radius: float = POOL_BALL_RADIUS
-    q_start: ArrayLike | None = None
-    limits: JointLimits | None = None
+    q_start: FloatArray = None  # type: ignore[assignment]  # None: resolved in __post_init__
+    limits: JointLimits = None  # type: ignore[assignment]  # None: the robot's (__post_init__)
     position_tolerance: float = STRIKE_POSITION_TOLERANCE
     speed_tolerance: float = STRIKE_SPEED_TOLERANCE
     angle_tolerance: float = STRIKE_ANGLE_TOLERANCE
-    q_contact: np.ndarray = field(init=False, repr=False, default=None)  # type: ignore[assignment]
+    q_contact: FloatArray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         robot = check_robot(self.robot)

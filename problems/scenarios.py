@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
+from numpy.typing import NDArray
 
 from optraj import robots
 from optraj.problems.paddle_strike import PaddleStrike
@@ -16,9 +19,14 @@ __all__ = ["sawyer_pool_shot", "seed_paddle_strike", "youbot_two_blocks"]
 SEED_PADDLE_BALLS = ((1.1, 0.8, 0.7), (1.1, -0.8, 0.7), (1.1, -0.8, -0.1), (1.1, 0.8, -0.1))
 
 
+def _array(value: object) -> NDArray[np.float64]:
+    """``value`` as the problems' array fields are typed; the problem checks and converts it."""
+    return cast(NDArray[np.float64], value)
+
+
 def seed_paddle_strike(ball: tuple[float, float, float] = SEED_PADDLE_BALLS[0]) -> PaddleStrike:
     """The ECE486 paddle4 task: from home, reach the ball at rest in 2 s (C = 0)."""
-    return PaddleStrike(robots.load("paddle4"), ball=ball)
+    return PaddleStrike(robots.load("paddle4"), ball=_array(ball))
 
 
 def youbot_two_blocks() -> PickAndPlace:
@@ -29,8 +37,8 @@ def youbot_two_blocks() -> PickAndPlace:
     """
     return PickAndPlace(
         robots.load("youbot"),
-        picks=[(0.22, 0.10, -0.03), (0.22, -0.10, -0.03)],
-        pile=(0.12, 0.14, -0.03),
+        picks=_array([(0.22, 0.10, -0.03), (0.22, -0.10, -0.03)]),
+        pile=_array((0.12, 0.14, -0.03)),
     )
 
 
@@ -52,7 +60,7 @@ def sawyer_pool_shot(
     heading = np.radians(as_number(heading_deg, "heading_deg", "deg"))
     return PoolStrike(
         robots.load("sawyer"),
-        ball=ball,
-        direction=(np.cos(heading), np.sin(heading), 0.0),
+        ball=_array(ball),
+        direction=_array((np.cos(heading), np.sin(heading), 0.0)),
         speed=speed,
     )

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import NDArray
 
 from optraj.errors import InvalidInputError
 from optraj.problems.common import check_robot, joint_state, non_negative, resolve_limits
@@ -13,6 +13,9 @@ from optraj.problems.constraints import BoundaryState, Constraint, ViaPoint
 from optraj.problems.point_to_point import is_still, still_error
 from optraj.robots import JointLimits, Robot
 from optraj.validation import as_array, as_duration, as_vector
+
+#: Arrays the problem stores after checking its inputs (it takes any array-like).
+FloatArray = NDArray[np.float64]
 
 __all__ = ["Waypoints"]
 
@@ -34,10 +37,10 @@ class Waypoints:
     """
 
     robot: Robot
-    waypoints: ArrayLike
-    segment_durations: ArrayLike | None = None
+    waypoints: FloatArray
+    segment_durations: FloatArray | None = None
     via_tolerance: float | None = None
-    limits: JointLimits | None = None
+    limits: JointLimits = None  # type: ignore[assignment]  # None: the robot's (__post_init__)
     tolerance: float = 1e-6
 
     def __post_init__(self) -> None:

@@ -1,0 +1,57 @@
+"""Tests of planners.registry: the planners by kind of problem, made and extended."""
+
+from __future__ import annotations
+
+import pytest
+
+from optraj import planners, problems
+from optraj.errors import InvalidInputError, UnknownNameError
+from optraj.planners import registry
+
+
+def test_every_kind_lists_planners_that_plan_its_problem_within_the_limits():
+    made = {
+        kind: [registry.make_planner(kind, name) for name in registry.planner_names(kind)]
+        for kind in registry.KINDS
+    }
+    assert [type(p).__name__ for p in made["pool-shot"]] == [
+        "SeedStrike",
+        *["ClassicStrike"] * 3,
+        *["TimeOptimalStrike"] * 2,
+        *["OptimalControl"] * 2,
+    ]
+    problem = problems.seed_paddle_strike()
+    for planner in made["paddle-strike"][:2]:  # the fast ones: judged by the checker
+        assert planners.check(planner.plan(problem), problem).ok
+
+
+def test_each_call_makes_a_new_planner_with_its_default_options():
+    first = registry.make_planner("point-to-point", "optimal-control-jerk")
+    second = registry.make_planner("point-to-point", "optimal-control-jerk")
+    assert first is not second and first.name == second.name
+
+
+def test_unknown_kinds_and_names_are_refused_with_the_known_ones():
+    with pytest.raises(UnknownNameError, match="pool-shot"):
+        registry.planner_names("pool")
+    with pytest.raises(UnknownNameError, match="cubic"):
+        registry.make_planner("pick-and-place", "toppra")
+
+
+def test_a_registered_planner_joins_its_kind_and_the_command_line(monkeypatch):
+    from optraj import cli
+
+    kinds = {kind: dict(registry._REGISTRY[kind]) for kind in registry.KINDS}
+    monkeypatch.setattr(registry, "_REGISTRY", kinds)
+    registry.register_planner("point-to-point", "slow-cubic", planners.Cubic)
+    assert registry.planner_names("point-to-point")[-1] == "slow-cubic"
+    assert cli.PLANNERS["point-to-point"][-1] == "slow-cubic"
+    assert isinstance(cli.make_planner("point-to-point", "slow-cubic"), planners.Cubic)
+    with pytest.raises(InvalidInputError, match="already registered"):
+        registry.register_planner("point-to-point", "cubic", planners.Cubic)
+    with pytest.raises(InvalidInputError, match="lower-case words"):
+        registry.register_planner("point-to-point", "Slow Cubic", planners.Cubic)
+    with pytest.raises(InvalidInputError, match="callable"):
+        registry.register_planner("point-to-point", "other", planners.Cubic())
+    with pytest.raises(UnknownNameError):
+        registry.register_planner("juggling", "cubic", planners.Cubic)
