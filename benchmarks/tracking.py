@@ -54,6 +54,7 @@ LATENCY = 5  # steps
 PUSH = 20.0  # force on the cue tip [N], for PUSH_DURATION
 PUSH_DURATION = 0.01  # [s]
 PUSH_LEAD = 0.1  # the push starts this long before the strike [s]
+QP_LABEL = "differential-IK QP"  # the row other controllers are compared with
 CONDITIONS = ("nominal", "noisy", "latent", "disturbed", "at the limits")
 
 
@@ -198,34 +199,37 @@ def recorded_steps(
     ]
 
 
-def timing_table(robot: Robot, planned: dict[str, Trajectory], repeats: int) -> list[str]:
-    """Controller time per step on the states of recorded runs, every controller in turn.
-
-    Every controller replays the nominal run; the QP also replays the run on the full limits,
-    where its bounds bind and its active set changes more often.
-    """
-    nominal = recorded_steps(robot, planned["nominal"])
-    full = recorded_steps(robot, planned["full"])
+def _timing_cases(
+    robot: Robot, nominal: list[Any], full: list[Any], with_pink: bool
+) -> list[tuple[str, controllers.Controller | None, list[Any]]]:
+    """(row label, controller or None for pink, recorded steps) of the timing table."""
     compared = controllers_to_compare(robot)
     qp_controller = next(c for _, c in compared if isinstance(c, controllers.DiffIKQP))
-    qp_label = "differential-IK QP"
     cases: list[tuple[str, controllers.Controller | None, list[Any]]] = [
         (label, controller, nominal) for label, controller in compared
     ]
-    cases.append((f"{qp_label}, run on the full limits", qp_controller, full))
+    cases.append((f"{QP_LABEL}, run on the full limits", qp_controller, full))
     try:
         compiled: controllers.DiffIKQP | None = controllers.DiffIKQP(robot, evaluation="compiled")
     except CompilerError:
         compiled = None
     if compiled is not None:
-        cases.append((f"{qp_label}, compiled to C", compiled, nominal))
+        cases.append((f"{QP_LABEL}, compiled to C", compiled, nominal))
     pieces = controllers.DiffIKQP(robot, evaluation="pieces")
-    cases.append((f"{qp_label}, from the pieces", pieces, nominal))
-    pink_step = pink_stepper(robot)
-    if pink_step is not None:
+    cases.append((f"{QP_LABEL}, from the pieces", pieces, nominal))
+    if with_pink:
         cases.append(("pink solve_ik (OSQP)", None, nominal))
+    return cases
+
+
+def _time_steps(
+    cases: list[tuple[str, controllers.Controller | None, list[Any]]],
+    repeats: int,
+    pink_step: Callable[..., Any] | None,
+) -> tuple[dict[str, list[float]], dict[str, list[str]]]:
+    """Wall time of every step of every case [s], and how each QP step was solved."""
     timed: dict[str, list[float]] = {}
-    paths: dict[str, list[str]] = {}  # how each QP step was solved
+    paths: dict[str, list[str]] = {}
     with warnings.catch_warnings():
         # Through pink, qpsolvers warns on every call that it converts dense matrices to
         # sparse ones, and osqp that a default will change.
@@ -246,7 +250,35 @@ def timing_table(robot: Robot, planned: dict[str, Trajectory], repeats: int) -> 
                     if isinstance(controller, controllers.DiffIKQP):
                         solver = controller.diagnostics.get("solver", "fallback")
                         paths.setdefault(label, []).append(solver)
-    qp = statistics.median(timed[qp_label])
+    return timed, paths
+
+
+def _timing_row(label: str, times: list[float], qp: float, paths: dict[str, list[str]]) -> str:
+    """One row of the timing table: median, p95, ratio to the QP, steps solved by OSQP."""
+    median = statistics.median(times)
+    p95 = float(np.percentile(times, 95))
+    row = f"| {label} | {1e6 * median:.1f} | {1e6 * p95:.1f} | {median / qp:.2f} |"
+    if label not in paths:
+        return row + " |"
+    through = [t for t, p in zip(times, paths[label], strict=True) if p == "osqp"]
+    share = f"{len(through)}/{len(times)}"
+    if through:
+        share += f", {1e6 * statistics.median(through):.1f} us median"
+    return row + f" {share} |"
+
+
+def timing_table(robot: Robot, planned: dict[str, Trajectory], repeats: int) -> list[str]:
+    """Controller time per step on the states of recorded runs, every controller in turn.
+
+    Every controller replays the nominal run; the QP also replays the run on the full limits,
+    where its bounds bind and its active set changes more often.
+    """
+    nominal = recorded_steps(robot, planned["nominal"])
+    full = recorded_steps(robot, planned["full"])
+    pink_step = pink_stepper(robot)
+    cases = _timing_cases(robot, nominal, full, pink_step is not None)
+    timed, paths = _time_steps(cases, repeats, pink_step)
+    qp = statistics.median(timed[QP_LABEL])
     lines = [
         "",
         "## Controller time per step",
@@ -259,19 +291,7 @@ def timing_table(robot: Robot, planned: dict[str, Trajectory], repeats: int) -> 
         "| controller | median [us] | p95 [us] | vs QP | QP steps solved by OSQP |",
         "|---|---|---|---|---|",
     ]
-    for label, times in timed.items():
-        median = statistics.median(times)
-        p95 = float(np.percentile(times, 95))
-        row = f"| {label} | {1e6 * median:.1f} | {1e6 * p95:.1f} | {median / qp:.2f} |"
-        if label in paths:
-            through = [t for t, p in zip(times, paths[label], strict=True) if p == "osqp"]
-            share = f"{len(through)}/{len(times)}"
-            if through:
-                share += f", {1e6 * statistics.median(through):.1f} us median"
-            row += f" {share} |"
-        else:
-            row += " |"
-        lines.append(row)
+    lines += [_timing_row(label, times, qp, paths) for label, times in timed.items()]
     lines += [
         "",
         "A QP step first solves exactly on the last step's active set (one small linear",
@@ -283,7 +303,7 @@ def timing_table(robot: Robot, planned: dict[str, Trajectory], repeats: int) -> 
         'function to C with gcc; `"pieces"` assembles the QP from `controllers.qp_terms`',
         "with NumPy at every step. All three give the same commands to round-off.",
     ]
-    if compiled is None:
+    if not any(label.endswith("compiled to C") for label, _, _ in cases):
         lines += ["", "No C compiler (gcc) was found: the compiled row is missing."]
     if pink_step is None:
         lines += ["", "pin-pink is not installed: `pip install pin-pink` adds its row."]

@@ -20,7 +20,7 @@ import os
 import subprocess
 import sys
 import textwrap
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any, NoReturn, TextIO
 
@@ -36,13 +36,7 @@ __all__ = [
     "tag_trajectory",
 ]
 
-#: The problems ``optraj plan`` knows, each with the one robot it is for (None: any robot).
-PROBLEMS: dict[str, str | None] = {
-    "pool-shot": "sawyer",
-    "paddle-strike": "paddle4",
-    "pick-and-place": "youbot",
-    "point-to-point": None,
-}
+from optraj.cli_problems import PROBLEMS, build_problem, check_fit, joint_words
 
 
 class _Planners(Mapping[str, tuple[str, ...]]):
@@ -95,147 +89,6 @@ def make_planner(problem: str, name: str) -> Any:
     return registry.make_planner(problem, name)
 
 
-def _check_fit(robot: str, problem: str) -> None:
-    """Raise unless ``problem`` is known and made for ``robot``."""
-    from optraj import robots
-
-    if robot not in robots.known_robots():
-        raise UnknownNameError("robot", robot, robots.known_robots())
-    if problem not in PROBLEMS:
-        raise UnknownNameError("problem", problem, PROBLEMS)
-    wanted = PROBLEMS[problem]
-    if wanted is not None and wanted != robot:
-        fits = [name for name, owner in PROBLEMS.items() if owner in (None, robot)]
-        raise InvalidInputError(
-            f"problem {problem!r} is for robot {wanted!r}, not {robot!r}; problems for "
-            f"{robot}: {', '.join(fits)}",
-            name="problem",
-        )
-
-
-def _joint_values(robot: Any, values: Any, option: str) -> list[float]:
-    """Joint positions [rad or m] from a pose name or a list of one number per joint.
-
-    Numbers are numbers here (a bool, or a string from a file, is refused): the words of the
-    command line are parsed by :func:`_joint_words` first.
-    """
-    from optraj.validation import as_vector
-
-    if isinstance(values, str):
-        if values not in robot.poses:
-            raise InvalidInputError(
-                f"{option} takes {robot.dof} joint positions [rad or m] or a pose name "
-                f"({', '.join(robot.poses)}), got {values!r}",
-                name=option,
-            )
-        return as_vector(robot.poses[values], option).tolist()
-    numbers = as_vector(values, option).tolist()  # refuses NaN, inf, bools, text and nesting
-    if len(numbers) != robot.dof:
-        raise InvalidInputError(
-            f"{option} needs {robot.dof} values [rad or m], one per joint of {robot.name} "
-            f"({', '.join(robot.joint_names)}), got {len(numbers)}",
-            name=option,
-        )
-    return numbers
-
-
-def _joint_words(words: Sequence[str], option: str) -> str | list[float]:
-    """The words given to ``--q-start`` or ``--q-goal``: one pose name, or numbers [rad or m]."""
-    try:
-        return [float(word) for word in words]
-    except ValueError:
-        if len(words) == 1:
-            return words[0]  # a pose name, looked up with the robot
-        raise InvalidInputError(
-            f"{option} takes joint positions [rad or m], one per joint, or one pose name, got "
-            f"{' '.join(words)!r}",
-            name=option,
-        ) from None
-
-
-def build_problem(robot: str, problem: str, options: Mapping[str, Any]) -> Any:
-    """Build a problem from its command-line name and JSON-able options.
-
-    Args:
-        robot: Robot name.
-        problem: One of :data:`PROBLEMS`.
-        options: ``speed`` [m/s], ``ball`` [m], ``heading`` [deg] (strikes); ``q_start``,
-            ``q_goal`` (a pose name or one number per joint [rad or m]), ``duration`` [s]
-            (point-to-point); ``limit_scale`` [-] (all). Missing or None: the default. Numbers
-            must be numbers (bools and strings are refused).
-
-    Raises:
-        UnknownNameError, InvalidInputError: An unknown name, a problem for another robot, or
-            bad option values.
-    """
-    import dataclasses
-
-    from optraj import problems, robots
-    from optraj.validation import as_duration, as_fraction, as_number, as_vector
-
-    _check_fit(robot, problem)
-    if not isinstance(options, Mapping):
-        raise InvalidInputError(
-            f"options must be a mapping of option names to values, got {type(options).__name__}",
-            name="options",
-        )
-    get = {key: value for key, value in options.items() if value is not None}.get
-
-    def number(key: str, default: float, unit: str) -> float:
-        """An option that is one number (a bool or a string of a file is refused)."""
-        return as_number(get(key, default), f"--{key}", unit)
-
-    # The ranges of speed, ball and heading are the problems' to check; here their types.
-    scale = as_fraction(get("limit_scale", 1.0), "--limit-scale")
-    try:
-        if problem == "pool-shot":
-            extra = (
-                {"ball": tuple(as_vector(get("ball"), "--ball", 3))}
-                if get("ball") is not None
-                else {}
-            )
-            built = problems.sawyer_pool_shot(
-                speed=number("speed", 1.0, "m/s"),
-                heading_deg=number("heading", 0.0, "deg"),
-                **extra,
-            )
-        elif problem == "paddle-strike":
-            from optraj.problems.scenarios import SEED_PADDLE_BALLS
-
-            built = problems.PaddleStrike(
-                robots.load("paddle4"),
-                ball=tuple(as_vector(get("ball", SEED_PADDLE_BALLS[0]), "--ball", 3)),
-                speed=number("speed", 0.0, "m/s"),
-            )
-        elif problem == "pick-and-place":
-            built = problems.youbot_two_blocks()
-        else:
-            model = robots.load(robot)
-            duration = get("duration")
-            built = problems.PointToPoint(
-                model,
-                q_start=_joint_values(model, get("q_start", "home"), "--q-start"),
-                q_goal=_joint_values(model, get("q_goal", "home"), "--q-goal"),
-                duration=None if duration is None else as_duration(duration, "--duration"),
-            )
-            if built.duration is None and built.still:  # the one still-move rule
-                raise InvalidInputError(
-                    "the goal equals the start (--q-start and --q-goal default to home): give "
-                    f"--q-goal as {model.dof} joint positions [rad or m] or a pose name "
-                    f"({', '.join(model.poses)}), or a --duration to hold still",
-                    name="q_goal",
-                )
-        if scale != 1.0:
-            built = dataclasses.replace(built, limits=built.robot.limits.scaled(scale))
-    except OptrajError:
-        raise
-    except (TypeError, ValueError, KeyError) as exc:  # a problem's own untyped refusal
-        raise InvalidInputError(
-            f"bad options for problem {problem!r}: {exc}", name="options"
-        ) from exc
-    return built
-
-
 def tag_trajectory(traj: Any, robot: str, problem: str, options: Mapping[str, Any]) -> None:
     """Store in the metadata what ``optraj check`` needs to rebuild the problem."""
     traj.metadata.update({"robot": robot, "problem": problem, "problem_options": dict(options)})
@@ -283,7 +136,7 @@ def _plan_options(args: argparse.Namespace) -> dict[str, Any]:
                 name=key,
             )
         if key in ("q_start", "q_goal"):
-            value = _joint_words(value, f"--{key.replace('_', '-')}")
+            value = joint_words(value, f"--{key.replace('_', '-')}")
         options[key] = value
     if args.limit_scale != 1.0:
         options["limit_scale"] = args.limit_scale
@@ -292,7 +145,7 @@ def _plan_options(args: argparse.Namespace) -> dict[str, Any]:
 
 def _cmd_plan(args: argparse.Namespace, out: TextIO) -> int:
     robot = args.robot.lower()
-    _check_fit(robot, args.problem)
+    check_fit(robot, args.problem)
     planner = make_planner(args.problem, args.planner)
     options = _plan_options(args)
     problem = build_problem(robot, args.problem, options)
@@ -421,7 +274,20 @@ def _cmd_bench(args: argparse.Namespace, out: TextIO) -> int:
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse with a one-line error message, like the rest of the command."""
+    """argparse with a one-line error message, like the rest of the command.
+
+    ``describe``, when given, writes the description when the help is printed (the plan
+    command's lists the planners, which are imported only then).
+    """
+
+    def __init__(self, *args: Any, describe: Callable[[], str] | None = None, **kwargs: Any):
+        super().__init__(*args, **kwargs)
+        self.describe = describe
+
+    def format_help(self) -> str:
+        if self.describe is not None:
+            self.description = self.describe()
+        return super().format_help()
 
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
@@ -494,7 +360,8 @@ def _demo_parser(sub: Any) -> None:
     demo.set_defaults(run=_cmd_demo)
 
 
-def _plan_parser(sub: Any) -> None:
+def _plan_description() -> str:
+    """The plan command's description: what it does, the problems and their planners, units."""
     lines = [
         textwrap.fill(
             f"{name:<15} robot {robot or 'any'}; planners: {', '.join(PLANNERS[name])}",
@@ -510,13 +377,17 @@ def _plan_parser(sub: Any) -> None:
         "it). Exit status 0 when planned and written (whatever the checker says), 2 when the "
         "input is bad or no plan is possible (one line on stderr)."
     )
+    return "\n\n".join(
+        [textwrap.fill(intro, 80), "problems:\n" + "\n".join(lines), textwrap.fill(_UNITS, 80)]
+    )
+
+
+def _plan_parser(sub: Any) -> None:
     plan = sub.add_parser(
         "plan",
         help="plan one problem with one planner and write the trajectory as JSON",
         formatter_class=argparse.RawDescriptionHelpFormatter,
-        description="\n\n".join(
-            [textwrap.fill(intro, 80), "problems:\n" + "\n".join(lines), textwrap.fill(_UNITS, 80)]
-        ),
+        describe=_plan_description,
     )
     plan.add_argument("robot", metavar="ROBOT", help="robot name (see 'optraj robots')")
     plan.add_argument("--problem", required=True, metavar="NAME", help=", ".join(PROBLEMS))
@@ -526,6 +397,24 @@ def _plan_parser(sub: Any) -> None:
         metavar="NAME",
         help="planner name; valid ones per problem above",
     )
+    _strike_options(plan)
+    _joint_options(plan)
+    plan.add_argument(
+        "--limit-scale",
+        type=float,
+        default=1.0,
+        metavar="F",
+        help="plan within this fraction of the velocity, acceleration and jerk limits, in "
+        "(0, 1] (default 1)",
+    )
+    plan.add_argument(
+        "--out", default="traj.json", metavar="PATH", help="output file (default traj.json)"
+    )
+    plan.set_defaults(run=_cmd_plan)
+
+
+def _strike_options(plan: argparse.ArgumentParser) -> None:
+    """The options of the strike problems: speed, ball and heading."""
     strike = plan.add_argument_group("pool-shot and paddle-strike")
     strike.add_argument(
         "--speed",
@@ -548,6 +437,10 @@ def _plan_parser(sub: Any) -> None:
         metavar="DEG",
         help="pool-shot direction from +x about +z [deg] (default 0)",
     )
+
+
+def _joint_options(plan: argparse.ArgumentParser) -> None:
+    """The options of point-to-point: start, goal and duration."""
     joint = plan.add_argument_group("point-to-point")
     joint.add_argument(
         "--q-start",
@@ -568,18 +461,6 @@ def _plan_parser(sub: Any) -> None:
         help="fixed duration [s] (ruckig: the shortest; toppra chooses its own); default: as "
         "fast as the limits allow",
     )
-    plan.add_argument(
-        "--limit-scale",
-        type=float,
-        default=1.0,
-        metavar="F",
-        help="plan within this fraction of the velocity, acceleration and jerk limits, in "
-        "(0, 1] (default 1)",
-    )
-    plan.add_argument(
-        "--out", default="traj.json", metavar="PATH", help="output file (default traj.json)"
-    )
-    plan.set_defaults(run=_cmd_plan)
 
 
 def _check_parser(sub: Any) -> None:

@@ -14,10 +14,12 @@ Everything heavy is imported inside the functions, so that ``import optraj`` sta
 from __future__ import annotations
 
 import argparse
+import functools
 import math
 import re
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TextIO
 
@@ -137,7 +139,7 @@ def _verdicts(out: TextIO) -> None:
     from optraj import planners, problems
     from optraj.cli import describe_failures
 
-    cases = [
+    cases: list[tuple[str, Any, Any, tuple[str, ...] | None]] = [
         ("youBot pick and place", planners.PickAndPlacePlanner(planners.Quintic()),
          problems.youbot_two_blocks(), ("position", "velocity", "acceleration", "jerk")),
         ("youBot pick and place", planners.PickAndPlacePlanner(planners.LSPB()),
@@ -283,6 +285,15 @@ def _signed(value: float, digits: int = 3) -> str:
     return f"{round(value, digits) + 0.0:+.{digits}f}"
 
 
+def _tracked(robot: Any, traj: Any, controller: Any, scene: Any) -> Any:
+    """The controller following the plan in the MuJoCo strike world (0.05 s to settle)."""
+    from optraj import controllers, physics
+
+    return controllers.simulate(
+        robot, traj, controller, plant=physics.MujocoPlant(scene), settle=0.05
+    )
+
+
 def _where_the_ball_went(problem: Any, traj: Any, out: TextIO) -> None:
     """The plan alone and each controller on the MuJoCo plant: where the ball went."""
     from optraj import controllers, physics
@@ -298,16 +309,11 @@ def _where_the_ball_went(problem: Any, traj: Any, out: TextIO) -> None:
         "  verdict\n"
         f"  {'':<22}{'[deg]':>9}{'[%]':>8}{'[m/s]':>12}{'x, y [m]':>24}\n"
     )
-    runs = [("plan alone", lambda: physics.replay(scene, traj))]
+    runs: list[tuple[str, Callable[[], Any]]] = [
+        ("plan alone", lambda: physics.replay(scene, traj))
+    ]
     for controller in (controllers.PseudoInversePID(robot), controllers.DiffIKQP(robot)):
-        runs.append(
-            (
-                controller.name,
-                lambda c=controller: controllers.simulate(
-                    robot, traj, c, plant=physics.MujocoPlant(scene), settle=0.05
-                ),
-            )
-        )
+        runs.append((controller.name, functools.partial(_tracked, robot, traj, controller, scene)))
     for label, run in runs:
         try:
             ball = physics.outcome(run(), problem)

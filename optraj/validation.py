@@ -98,7 +98,7 @@ def ndim_of(value: object) -> int:
     shape before that without NumPy's own ValueError.
     """
     try:
-        return int(np.ndim(value))
+        return int(np.ndim(value))  # type: ignore[arg-type]  # any object: NumPy decides
     except ValueError:
         return -1
 
@@ -173,8 +173,7 @@ def as_number(
             value, the bound and the unit.
     """
     number = float(as_array(value, name, ()))  # type: ignore[arg-type]
-    low = minimum is not None and (number <= minimum if open_minimum else number < minimum)
-    if low:
+    if minimum is not None and (number <= minimum if open_minimum else number < minimum):
         sign = ">" if open_minimum else ">="
         raise InvalidInputError(
             f"{name} must be {sign} {_with_unit(minimum, unit)}, got {_with_unit(number, unit)}",

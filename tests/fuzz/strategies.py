@@ -433,6 +433,17 @@ def _one_bad(size: int, index: int, value: Any) -> list[Any]:
     return values
 
 
+def _children(value: Any, where: str) -> list[tuple[Any, str]]:
+    """The parts of a container (dataclass, mapping, sequence) with their paths."""
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return [(getattr(value, f.name), f"{where}.{f.name}") for f in dataclasses.fields(value)]
+    if isinstance(value, dict):
+        return [(item, f"{where}[{key!r}]") for key, item in value.items()]
+    if isinstance(value, (list, tuple)):
+        return [(item, f"{where}[{k}]") for k, item in enumerate(value[:10_000])]
+    return []
+
+
 def finite_everywhere(value: Any, where: str = "output", seen: Sequence[int] = ()) -> str | None:
     """Where a NaN hides in ``value`` (arrays, numbers, dataclasses, mappings, sequences).
 
@@ -445,24 +456,9 @@ def finite_everywhere(value: Any, where: str = "output", seen: Sequence[int] = (
     if isinstance(value, float):
         return where if math.isnan(value) else None
     if isinstance(value, np.ndarray):
-        if value.dtype.kind in "fc" and np.isnan(value).any():
-            return where
-        return None
-    if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        for item in dataclasses.fields(value):
-            found = finite_everywhere(getattr(value, item.name), f"{where}.{item.name}", seen)
-            if found:
-                return found
-        return None
-    if isinstance(value, dict):
-        for key, item in value.items():
-            found = finite_everywhere(item, f"{where}[{key!r}]", seen)
-            if found:
-                return found
-        return None
-    if isinstance(value, (list, tuple)):
-        for k, item in enumerate(value[:10_000]):
-            found = finite_everywhere(item, f"{where}[{k}]", seen)
-            if found:
-                return found
+        return where if value.dtype.kind in "fc" and np.isnan(value).any() else None
+    for item, path in _children(value, where):
+        found = finite_everywhere(item, path, seen)
+        if found:
+            return found
     return None
