@@ -23,6 +23,7 @@ from optraj.planners.profiles.sequencer import PickAndPlacePlanner
 from optraj.planners.profiles.time_scaling import Cubic, Quintic
 from optraj.planners.profiles.via_points import ViaPoints
 from optraj.planners.registry import make_planner, planner_names, register_planner
+from optraj.planners.solve_stats import SolveStats
 from optraj.planners.strike.classic_strike import ClassicStrike
 from optraj.planners.strike.contact import (
     ContactChoice,
@@ -57,6 +58,7 @@ __all__ = [
     "Report",
     "Ruckig",
     "SeedStrike",
+    "SolveStats",
     "TimeOptimalStrike",
     "Toppra",
     "Trajectory",
