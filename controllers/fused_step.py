@@ -12,8 +12,8 @@ expression of the measured state and the reference:
    posture moving with the velocity given for it), and the velocity, acceleration and
    position boxes intersected in that order;
 4. the QP's exact solution with the last step's active set held at its bounds, whether it
-   meets the optimality conditions, and the set to try next (``_ActiveSet._on_bounds`` and
-   ``_ActiveSet._next``).
+   meets the optimality conditions, and the set to try next (``ActiveSet._on_bounds`` and
+   ``ActiveSet._next``).
 
 A second function continues the active-set method from that next set for up to
 ``active_set_changes`` rounds, unrolled; it runs only when the active set changed. Each is
@@ -68,7 +68,7 @@ class StepSettings:
         limits: The limits to respect.
         velocity_scale: Fraction of the velocity limits the command may use.
         position_gain: Fraction of the distance to a position limit one step may cover.
-        slack: Relative slack of the optimality test (``_ActiveSet.SLACK``).
+        slack: Relative slack of the optimality test (``ActiveSet.SLACK``).
         changes: Changes of the active set tried after the first solve (0: none).
     """
 
@@ -371,7 +371,7 @@ def _solve_on_set(
     held_lower: ca.SX,
     slack: float,
 ) -> tuple[ca.SX, ca.SX, ca.SX, ca.SX]:
-    """One round of the active-set method (``_ActiveSet._on_bounds`` and ``._next``).
+    """One round of the active-set method (``ActiveSet._on_bounds`` and ``._next``).
 
     The exact solution with the held joints at their bounds, written as the symmetric reduced
     system (the free rows and columns of ``H``, unit rows for the held joints), whether it is
