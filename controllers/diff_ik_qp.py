@@ -52,14 +52,15 @@ from collections.abc import Sequence
 from typing import Any, Literal
 
 import numpy as np
-import osqp
-import scipy.sparse as sparse
 from numpy.typing import ArrayLike, NDArray
-from scipy.linalg import lapack
 
+from optraj.controllers.active_set import ActiveSet
 from optraj.controllers.cartesian_pid import CartesianPID, tool_kinematics
 from optraj.controllers.controller import Command, Controller, Reference, State
 from optraj.controllers.fused_step import FusedStep, StepSettings
+
+# OSQP_INFINITY and USABLE moved with the workspace; still importable from here.
+from optraj.controllers.osqp_workspace import OSQP_INFINITY, USABLE, OSQPWorkspace  # noqa: F401
 from optraj.controllers.qp_terms import (
     QP,
     Constraint,
@@ -101,18 +102,6 @@ ACTIVE_SET_CHANGES = 6
 MAX_ACTIVE_SET_CHANGES = 64
 #: How a step computes its QP (see DiffIKQP).
 EVALUATIONS: tuple[str, ...] = ("fused", "compiled", "pieces")
-#: OSQP's infinity.
-OSQP_INFINITY = 1e30
-#: OSQP outcomes whose ``x`` is used: solved, solved inaccurately, or stopped at the iteration
-#: cap; the latter two only when the solution then passes the bound check.
-USABLE = frozenset(
-    int(status)
-    for status in (
-        osqp.SolverStatus.OSQP_SOLVED,
-        osqp.SolverStatus.OSQP_SOLVED_INACCURATE,
-        osqp.SolverStatus.OSQP_MAX_ITER_REACHED,
-    )
-)
 
 
 class DiffIKQP(Controller):
@@ -235,12 +224,12 @@ class DiffIKQP(Controller):
         self._damping = damping_objective(robot.dof, self.damping)
         self._velocity = velocity_bounds(self.limits.velocity, self.velocity_scale)
         self._pose_weights = np.diag(task_weights(*self.weights)).copy()  # W is diagonal
-        self._solver: _Workspace | None = None
+        self._solver: OSQPWorkspace | None = None
         self._last = np.zeros(robot.dof)
         self._rest = np.zeros(robot.dof)  # the posture's velocity without posture_velocity
-        self._active = _ActiveSet.none(robot.dof)
+        self._active = ActiveSet.none(robot.dof)
         self._fused: FusedStep | None = None
-        self._fused_active: _ActiveSet | None = None  # the set FusedStep holds
+        self._fused_active: ActiveSet | None = None  # the set FusedStep holds
         if self._uses_fused:
             try:
                 self._fused = self._make_fused()
@@ -279,7 +268,7 @@ class DiffIKQP(Controller):
             self.limits,
             self.velocity_scale,
             self.position_gain,
-            _ActiveSet.SLACK,
+            ActiveSet.SLACK,
             self.active_set_changes,
         )
 
@@ -293,7 +282,7 @@ class DiffIKQP(Controller):
         self.pid.reset()
         self._solver = None
         self._last = np.array(state.qd, dtype=float)
-        self._active = _ActiveSet.none(self.robot.dof)
+        self._active = ActiveSet.none(self.robot.dof)
         self.diagnostics = {}
 
     # ------------------------------------------------------------------------------ build
@@ -377,7 +366,7 @@ class DiffIKQP(Controller):
         x = fused.x
         if not ok and fused.search():  # the active set changed, and settled within the tries
             x = fused.searched_x
-            self._active = _ActiveSet(fused.searched_upper > 0.5, fused.searched_lower > 0.5)
+            self._active = ActiveSet(fused.searched_upper > 0.5, fused.searched_lower > 0.5)
             ok = True
         if ok:
             self.diagnostics = {"solver": "active set", "relaxed": ()}
@@ -415,7 +404,7 @@ class DiffIKQP(Controller):
         n = qp.c.size
         bounds_only = qp.A.shape[0] == n
         if self._solver is None or self._solver.rows != qp.A.shape[0]:
-            self._solver = _Workspace(qp, self.tolerance, self.max_iterations)
+            self._solver = OSQPWorkspace(qp, self.tolerance, self.max_iterations)
         solved, status, iterations, x, y = self._solver.solve(qp)
         self.diagnostics = {
             "solver": "osqp",
@@ -426,7 +415,7 @@ class DiffIKQP(Controller):
         if not solved or not np.isfinite(x).all():
             return self._fallback(f"OSQP status {status!r}", dt)
         if bounds_only:  # make the solution exact on the active set OSQP found
-            self._active = _ActiveSet.from_multipliers(qp, y, self.tolerance)
+            self._active = ActiveSet.from_multipliers(qp, y, self.tolerance)
             exact = self._active.solve(qp)
             if exact is not None:
                 return Command(exact)
@@ -446,181 +435,6 @@ class DiffIKQP(Controller):
         qd = np.clip(qd, -limit, limit)
         self.diagnostics["fallback"] = reason
         return Command(qd, f"fallback: {reason}")
-
-
-class _Workspace:
-    """One OSQP problem with a fixed sparsity pattern, updated in place at every step.
-
-    ``H``'s upper triangle and ``A`` are stored dense (every entry structural), so that new
-    numbers always fit the pattern OSQP factorised. The updates go straight to OSQP's
-    compiled solver when its Python wrapper exposes it (the wrapper re-validates and copies
-    on every call, which costs more than the solve of a 7-joint QP); otherwise through the
-    wrapper's public ``update``/``solve``.
-    """
-
-    def __init__(self, qp: QP, tolerance: float, max_iterations: int) -> None:
-        n = qp.c.size
-        columns = np.concatenate([np.full(j + 1, j) for j in range(n)])
-        rows = np.concatenate([np.arange(j + 1) for j in range(n)])
-        self.upper = (rows, columns)  # H's upper triangle in OSQP's column order
-        a_rows, a_columns = np.nonzero(np.ones_like(qp.A))
-        order = np.lexsort((a_rows, a_columns))  # OSQP stores A column by column
-        self.a_index = (a_rows[order], a_columns[order])
-        self.rows = qp.A.shape[0]
-        P = sparse.csc_matrix((qp.H[self.upper], self.upper), shape=(n, n))
-        A = sparse.csc_matrix((qp.A[self.a_index], self.a_index), shape=qp.A.shape)
-        self.wrapper = osqp.OSQP()
-        self.wrapper.setup(
-            P,
-            qp.c,
-            A,
-            *self._finite(qp),
-            verbose=False,
-            eps_abs=tolerance,
-            eps_rel=tolerance,
-            max_iter=max_iterations,
-            check_termination=5,
-            polishing=False,  # replaced by _refine (OSQP skips polishing with no active set)
-            warm_starting=True,
-        )
-        compiled = getattr(self.wrapper, "_solver", None)
-        needed = ("update_data_vec", "update_data_mat", "solve", "info", "solution")
-        self.compiled = compiled if all(hasattr(compiled, a) for a in needed) else None
-
-    @staticmethod
-    def _finite(qp: QP) -> tuple[FloatArray, FloatArray]:
-        return np.maximum(qp.lower, -OSQP_INFINITY), np.minimum(qp.upper, OSQP_INFINITY)
-
-    def solve(self, qp: QP) -> tuple[bool, str, int, FloatArray, FloatArray]:
-        """Update the numbers, solve from the last solution: (solved, status, iterations, x, y)."""
-        px = qp.H[self.upper]
-        ax = qp.A[self.a_index] if self.rows > qp.c.size else None
-        lower, upper = self._finite(qp)
-        if self.compiled is not None:
-            self.compiled.update_data_vec(q=qp.c, l=lower, u=upper)
-            self.compiled.update_data_mat(P_x=px, P_i=None, A_x=ax, A_i=None)
-            self.compiled.solve()
-            info = self.compiled.info
-            x, y = self.compiled.solution.x, self.compiled.solution.y
-        else:
-            update: dict[str, Any] = {"Px": px, "q": qp.c, "l": lower, "u": upper}
-            if ax is not None:
-                update["Ax"] = ax
-            self.wrapper.update(**update)
-            result = self.wrapper.solve(raise_error=False)
-            info, x, y = result.info, result.x, result.y
-        solved = int(info.status_val) in USABLE and x is not None
-        return solved, str(info.status), int(info.iter), np.array(x), np.array(y)
-
-
-class _ActiveSet:
-    """Which bounds hold as equalities, and the exact QP solution on them.
-
-    Args:
-        upper: Joints held at their upper bound, shape (n,) bool.
-        lower: Joints held at their lower bound, shape (n,) bool.
-    """
-
-    #: Slack of the optimality checks, relative to ``max(1, |c|)``; round-off is far smaller.
-    SLACK = 1e-9
-
-    def __init__(self, upper: NDArray[np.bool_], lower: NDArray[np.bool_]) -> None:
-        self.upper = upper
-        self.lower = lower
-        self.fixed = upper | lower
-        self.empty = not self.fixed.any()
-
-    @classmethod
-    def none(cls, n: int) -> _ActiveSet:
-        """No bound held: the unconstrained solution."""
-        return cls(np.zeros(n, dtype=bool), np.zeros(n, dtype=bool))
-
-    @classmethod
-    def from_multipliers(cls, qp: QP, y: FloatArray, tolerance: float) -> _ActiveSet:
-        """The bounds whose OSQP multiplier is clearly non-zero (positive: upper)."""
-        n = qp.c.size
-        scale = max(1.0, float(np.abs(qp.c).max()))
-        return cls(y[:n] > tolerance * scale, y[:n] < -tolerance * scale)
-
-    def solve(self, qp: QP) -> FloatArray | None:
-        """The QP's exact solution if this is its active set, else None (bounds-only QPs).
-
-        With the held joints fixed at their bounds the rest is one linear solve. The result
-        is the solution only if it meets the optimality conditions: every joint within its
-        bounds, and every held joint's cost gradient pointing outwards (a multiplier of the
-        right sign). ADMM stops at a tolerance; along weakly weighted directions (a redundant
-        arm's self-motion, held only by the damping and posture terms) its ``x`` may be off
-        by tolerance / weight, which this removes.
-        """
-        x = self._on_bounds(qp)
-        if x is None or self._next(qp, x) is not self:
-            return None
-        return np.minimum(np.maximum(x, qp.lower), qp.upper)  # round-off within the slack
-
-    def search(self, qp: QP, tries: int) -> tuple[_ActiveSet, FloatArray] | None:
-        """The active set and exact solution reached from this one, or None.
-
-        A primal-dual active-set method for a bounds-only QP: solve with the held joints at
-        their bounds; then hold every free joint that left its bounds and release every held
-        joint whose multiplier has the wrong sign; repeat until nothing changes, which is
-        exactly when the optimality conditions hold. It usually takes one or two changes
-        when the active set moved since the last step. None after ``tries`` solves (this set
-        and ``tries - 1`` changes), on a cycle or a singular system: let OSQP decide.
-        """
-        active, seen = self, {self.upper.tobytes() + self.lower.tobytes()}
-        for _ in range(tries):
-            x = active._on_bounds(qp)
-            if x is None:
-                return None
-            following = active._next(qp, x)
-            if following is active:
-                return active, np.minimum(np.maximum(x, qp.lower), qp.upper)
-            key = following.upper.tobytes() + following.lower.tobytes()
-            if key in seen:
-                return None
-            seen.add(key)
-            active = following
-        return None
-
-    def _on_bounds(self, qp: QP) -> FloatArray | None:
-        """The QP's minimiser with the held joints fixed at their bounds; None if singular."""
-        if self.empty:
-            _, x, info = lapack.dposv(qp.H, qp.c)
-            x = -x
-        else:
-            K = qp.H.copy()  # the held joints' rows become "x_j = bound"
-            K[self.fixed] = 0.0
-            K[self.fixed, self.fixed] = 1.0
-            rhs = np.where(self.upper, qp.upper, np.where(self.lower, qp.lower, -qp.c))
-            _, _, x, info = lapack.dgesv(K, rhs)
-        return None if info != 0 else x
-
-    def _next(self, qp: QP, x: FloatArray) -> _ActiveSet:
-        """This set if x (its solution) is optimal, else the set to try next.
-
-        Optimal: free joints within their bounds; held joints' cost gradient pointing out of
-        the box (at an upper bound no larger than 0, at a lower one no smaller), each up to
-        :data:`SLACK` relative to ``max(1, |c|)``. Next: hold the free joints that left, at
-        the bound they passed; release the held joints whose gradient points inwards.
-        """
-        slack = self.SLACK * max(1.0, float(np.abs(qp.c).max()))
-        above = x > qp.upper + slack
-        below = x < qp.lower - slack
-        if self.empty:
-            if not (above.any() or below.any()):
-                return self
-            return _ActiveSet(above, below)
-        gradient = qp.H @ x + qp.c
-        # A joint whose bounds meet stays held whatever its multiplier's sign (kept as an
-        # upper bound), rather than being freed only to be held again at the other one.
-        pinned = self.fixed & (qp.lower >= qp.upper)
-        upper = above | (self.upper & (gradient <= slack)) | pinned
-        lower = (below | (self.lower & (gradient >= -slack))) & ~pinned
-        if np.array_equal(upper, self.upper | pinned) and np.array_equal(
-            lower, self.lower & ~pinned
-        ):
-            return self
-        return _ActiveSet(upper, lower)
 
 
 def _checked_rows(constraint: object, n: int) -> Constraint:

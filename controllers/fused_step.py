@@ -12,8 +12,8 @@ expression of the measured state and the reference:
    posture moving with the velocity given for it), and the velocity, acceleration and
    position boxes intersected in that order;
 4. the QP's exact solution with the last step's active set held at its bounds, whether it
-   meets the optimality conditions, and the set to try next (``_ActiveSet._on_bounds`` and
-   ``_ActiveSet._next``).
+   meets the optimality conditions, and the set to try next (``ActiveSet._on_bounds`` and
+   ``ActiveSet._next``).
 
 A second function continues the active-set method from that next set for up to
 ``active_set_changes`` rounds, unrolled; it runs only when the active set changed. Each is
@@ -33,6 +33,7 @@ from __future__ import annotations
 import math
 import shutil
 import tempfile
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -68,7 +69,7 @@ class StepSettings:
         limits: The limits to respect.
         velocity_scale: Fraction of the velocity limits the command may use.
         position_gain: Fraction of the distance to a position limit one step may cover.
-        slack: Relative slack of the optimality test (``_ActiveSet.SLACK``).
+        slack: Relative slack of the optimality test (``ActiveSet.SLACK``).
         changes: Changes of the active set tried after the first solve (0: none).
     """
 
@@ -165,9 +166,10 @@ class FusedStep:
         self._step_buffer, self._step = _bind(step, [self.input, self.active], self.output)
         qp = self.output[n + 8 :]  # H, c, bounds and the next set: the search's input
         self.searched = np.zeros(3 * n + 1)
-        self._search_buffer, self._search = (
-            (None, None) if search is None else _bind(search, [qp], self.searched)
-        )
+        self._search_buffer: Any = None
+        self._search: Callable[[], Any] | None = None
+        if search is not None:
+            self._search_buffer, self._search = _bind(search, [qp], self.searched)
         # Views into the outputs, valid until the next call.
         out = self.output
         self.x = out[:n]
@@ -235,22 +237,25 @@ class FusedStep:
         return bool(self.searched[self.n] == 1.0)
 
 
-def _bind(function: ca.Function, inputs: list[FloatArray], output: FloatArray) -> Any:
+def _bind(
+    function: ca.Function, inputs: list[FloatArray], output: FloatArray
+) -> tuple[Any, Callable[[], Any]]:
     """``(buffer, call)``: a call of ``function`` that reads ``inputs``, writes ``output``.
 
     The buffer must be kept as long as the call is used.
     """
     buffer, evaluate = function.buffer()
     for index, array in enumerate(inputs):
-        buffer.set_arg(index, memoryview(array))
-    buffer.set_res(0, memoryview(output))
+        # casadi's stub wants a size; the binding reads it from the (ndarray) buffer itself.
+        buffer.set_arg(index, memoryview(array))  # type: ignore[call-arg, arg-type]
+    buffer.set_res(0, memoryview(output))  # type: ignore[call-arg, arg-type]
     return buffer, evaluate
 
 
 def _step_function(robot: Robot, settings: StepSettings, options: dict[str, Any]) -> ca.Function:
     """The step function of :class:`FusedStep` (layout in its docstring)."""
     n = robot.dof
-    pid, limits = settings.pid, settings.limits
+    pid = settings.pid
     packed = ca.SX.sym("input", 5 * n + 29)
     active = ca.SX.sym("active", 2 * n)
     parts = ca.vertsplit(
@@ -266,6 +271,60 @@ def _step_function(robot: Robot, settings: StepSettings, options: dict[str, Any]
     J = symbolic.frame_jacobian(robot.tool_frame_id)(q)
 
     # Cartesian PID law (CartesianPID.error and .twist).
+    twist, integral, near_half_turn = _pid_twist(pid, T, J, T_ref, twist_ref, qd, integral, dt)
+
+    # Objectives (qp_terms.task_objective, damping_objective, posture_objective).
+    W = ca.SX(task_weights(*settings.weights))
+    if pid.task == "axis":  # task_weights(axis=...) with the symbolic tool axis
+        axis = T[:3, 2]
+        W[3:, 3:] = W[3:, 3:] - settings.weights[1] * (axis @ axis.T)
+    WJ = W @ J
+    H = J.T @ WJ + settings.damping * ca.SX.eye(n)
+    c = -(WJ.T @ twist)
+    if settings.posture_weight > 0.0:
+        H += settings.posture_weight * ca.SX.eye(n)
+        c += (settings.posture_weight * settings.posture_gain) * (q - q_ref)
+        c -= settings.posture_weight * qd_ref
+
+    # Boxes in priority order (qp_terms.velocity_bounds, acceleration_bounds, position_bounds).
+    lower, upper = _boxes(settings, q, last, dt)
+    overlap_lost = ca.sum1(lower > upper) > 0
+
+    x, ok, held_upper, held_lower = _solve_on_set(
+        H, c, lower, upper, active[:n], active[n:], settings.slack
+    )
+    output = ca.vertcat(
+        x,
+        ok,
+        ca.fmax(overlap_lost, near_half_turn),
+        integral,
+        ca.vec(H),
+        c,
+        lower,
+        upper,
+        held_upper,
+        held_lower,
+    )
+    return ca.Function(
+        "diff_ik_qp_step", [packed, active], [output], ["input", "active"], ["output"], options
+    )
+
+
+def _pid_twist(
+    pid: CartesianPID,
+    T: ca.SX,
+    J: ca.SX,
+    T_ref: ca.SX,
+    twist_ref: ca.SX,
+    qd: ca.SX,
+    integral: ca.SX,
+    dt: ca.SX,
+) -> tuple[ca.SX, ca.SX, ca.SX]:
+    """The PID law's twist, its new integral and whether the error is near a half turn.
+
+    The same law as ``CartesianPID.error`` and ``.twist``, on symbolic tool pose ``T`` (4, 4),
+    Jacobian ``J`` (6, n), planned pose ``T_ref`` and twist ``twist_ref`` [m/s; rad/s].
+    """
     linear = T_ref[:3, 3] - T[:3, 3]
     near_half_turn = ca.SX(0)
     if pid.task == "axis":
@@ -297,21 +356,12 @@ def _step_function(robot: Robot, settings: StepSettings, options: dict[str, Any]
         twist += ki * integral
     if pid.kd.any():
         twist += kd * (twist_ref - J @ qd)
+    return twist, integral, near_half_turn
 
-    # Objectives (qp_terms.task_objective, damping_objective, posture_objective).
-    W = ca.SX(task_weights(*settings.weights))
-    if pid.task == "axis":  # task_weights(axis=...) with the symbolic tool axis
-        axis = T[:3, 2]
-        W[3:, 3:] = W[3:, 3:] - settings.weights[1] * (axis @ axis.T)
-    WJ = W @ J
-    H = J.T @ WJ + settings.damping * ca.SX.eye(n)
-    c = -(WJ.T @ twist)
-    if settings.posture_weight > 0.0:
-        H += settings.posture_weight * ca.SX.eye(n)
-        c += (settings.posture_weight * settings.posture_gain) * (q - q_ref)
-        c -= settings.posture_weight * qd_ref
 
-    # Boxes in priority order (qp_terms.velocity_bounds, acceleration_bounds, position_bounds).
+def _boxes(settings: StepSettings, q: ca.SX, last: ca.SX, dt: ca.SX) -> tuple[ca.SX, ca.SX]:
+    """The joint velocity box ``(lower, upper)``: velocity, acceleration and position limits."""
+    limits = settings.limits
     speed = ca.DM(settings.velocity_scale * limits.velocity)
     acceleration = ca.DM(limits.acceleration)
     step = acceleration * dt
@@ -323,26 +373,7 @@ def _step_function(robot: Robot, settings: StepSettings, options: dict[str, Any]
 
     lower = ca.fmax(ca.fmax(-speed, last - step), -reach(q - ca.DM(limits.lower)))
     upper = ca.fmin(ca.fmin(speed, last + step), reach(ca.DM(limits.upper) - q))
-    overlap_lost = ca.sum1(lower > upper) > 0
-
-    x, ok, held_upper, held_lower = _solve_on_set(
-        H, c, lower, upper, active[:n], active[n:], settings.slack
-    )
-    output = ca.vertcat(
-        x,
-        ok,
-        ca.fmax(overlap_lost, near_half_turn),
-        integral,
-        ca.vec(H),
-        c,
-        lower,
-        upper,
-        held_upper,
-        held_lower,
-    )
-    return ca.Function(
-        "diff_ik_qp_step", [packed, active], [output], ["input", "active"], ["output"], options
-    )
+    return lower, upper
 
 
 def _search_function(n: int, changes: int, slack: float, options: dict[str, Any]) -> ca.Function:
@@ -371,7 +402,7 @@ def _solve_on_set(
     held_lower: ca.SX,
     slack: float,
 ) -> tuple[ca.SX, ca.SX, ca.SX, ca.SX]:
-    """One round of the active-set method (``_ActiveSet._on_bounds`` and ``._next``).
+    """One round of the active-set method (``ActiveSet._on_bounds`` and ``._next``).
 
     The exact solution with the held joints at their bounds, written as the symmetric reduced
     system (the free rows and columns of ``H``, unit rows for the held joints), whether it is

@@ -26,9 +26,15 @@ from typing import Any, TextIO
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from optraj.controllers.controller import Controller, References, State, sample_references
+from optraj.controllers.controller import (
+    Command,
+    Controller,
+    References,
+    State,
+    sample_references,
+)
 from optraj.controllers.metrics import Metrics, tracking_metrics
-from optraj.controllers.plants import DynamicPlant, KinematicPlant, Plant
+from optraj.controllers.plants import DynamicPlant, KinematicPlant, Plant, PlantState
 from optraj.errors import InvalidInputError, SolverError
 from optraj.planners.trajectory import Trajectory
 from optraj.problems.common import check_robot
@@ -193,6 +199,7 @@ class Result:
 
 
 def _plant(robot: Robot, plant: str | Plant) -> Plant:
+    """The plant to simulate: ``plant`` itself, checked for ``robot``, or one by name."""
     if isinstance(plant, Plant):
         if plant.robot.dof != robot.dof:
             raise InvalidInputError(
@@ -246,6 +253,171 @@ class _Progress:
         self.stream.flush()
 
 
+def _check_parts(
+    robot: Robot,
+    trajectory: Trajectory,
+    controller: Controller,
+    noise: Noise | None,
+    disturbance: Impulse | None,
+    progress: bool | None,
+) -> None:
+    """Check the types of the run's parts and that the controller is for ``robot``."""
+    for value, kind, name in ((noise, Noise, "noise"), (disturbance, Impulse, "disturbance")):
+        if value is not None and not isinstance(value, kind):
+            raise InvalidInputError(
+                f"{name} must be a controllers.{kind.__name__} or None, got "
+                f"{type(value).__name__} {value!r}",
+                name=name,
+            )
+    if not isinstance(controller, Controller):
+        raise InvalidInputError(
+            f"controller must be a controllers.Controller, got {type(controller).__name__}",
+            name="controller",
+        )
+    if not isinstance(trajectory, Trajectory):
+        raise InvalidInputError(
+            f"trajectory must be a planners.Trajectory, got {type(trajectory).__name__}",
+            name="trajectory",
+        )
+    own = getattr(controller, "robot", None)
+    if not isinstance(own, Robot) or own.fingerprint != robot.fingerprint:
+        mine = f"{own.name!r} ({own.dof} joints)" if isinstance(own, Robot) else repr(own)
+        other = " (another model of it: links, tool or limits differ)" if (
+            isinstance(own, Robot) and own.name == robot.name
+        ) else ""  # fmt: skip
+        raise InvalidInputError(
+            f"the controller is for robot {mine}, the simulation for {robot.name!r} "
+            f"({robot.dof} joints){other}; build the controller with the simulated robot",
+            name="controller",
+        )
+    if progress is not None:
+        as_flag(progress, "progress")
+
+
+def _step_count(end: float, extra: float, step: float, dt: float) -> int:
+    """The number of control steps covering the plan and the settle time (at least one)."""
+    count = max(math.ceil((end + extra) / step - 1e-9), 1)
+    if count > MAX_STEPS:
+        raise InvalidInputError(
+            f"a run of {end + extra:.6g} s (plan and settle) at dt = {step:.6g} s takes {count} "
+            f"steps, more than {MAX_STEPS}; use dt >= {(end + extra) / MAX_STEPS:.3g} s or a "
+            "shorter settle",
+            name="dt",
+            value=dt,
+        )
+    return count
+
+
+def _checked_command(
+    controller: Controller, out: Command, time_k: float, n: int
+) -> tuple[FloatArray, FloatArray | None]:
+    """The controller's joint velocity and feed-forward torque, checked finite of shape (n,)."""
+    qd_command = np.asarray(out.qd, dtype=float)
+    if qd_command.shape != (n,) or not np.all(np.isfinite(qd_command)):
+        raise SolverError(
+            controller.name,
+            "bad command",
+            detail=f"at t = {time_k:.4g} s it returned {qd_command!r}; expected {n} finite "
+            "joint velocities",
+        )
+    tau_command = None if out.tau is None else np.asarray(out.tau, dtype=float)
+    if tau_command is not None and (
+        tau_command.shape != (n,) or not np.all(np.isfinite(tau_command))
+    ):
+        raise SolverError(
+            controller.name,
+            "bad command",
+            detail=f"at t = {time_k:.4g} s it returned the feed-forward torque "
+            f"{tau_command!r}; expected {n} finite joint torques or None",
+        )
+    return qd_command, tau_command
+
+
+@dataclass
+class _Series:
+    """The time series one run fills, step by step (``count`` steps of ``n`` joints)."""
+
+    q: FloatArray
+    qd: FloatArray
+    measured_q: FloatArray
+    measured_qd: FloatArray
+    command: FloatArray
+    applied: FloatArray
+    tau: FloatArray
+    step_time: FloatArray
+    fallbacks: list[tuple[float, str]] = field(default_factory=list)
+    saturated: int = 0
+
+    @classmethod
+    def empty(cls, count: int, n: int) -> _Series:
+        """Uninitialised series for ``count`` steps of ``n`` joints."""
+        return cls(
+            q=np.empty((count + 1, n)),
+            qd=np.empty((count + 1, n)),
+            measured_q=np.empty((count, n)),
+            measured_qd=np.empty((count, n)),
+            command=np.empty((count, n)),
+            applied=np.empty((count, n)),
+            tau=np.empty((count, n)),
+            step_time=np.empty(count),
+        )
+
+
+def _measure(
+    state: PlantState, noise: Noise | None, rng: np.random.Generator | None, n: int
+) -> tuple[FloatArray, FloatArray]:
+    """The joint positions and velocities the controller sees (the state plus noise)."""
+    mq, mqd = state.q, state.qd
+    if rng is not None and noise is not None:
+        mq = mq + rng.normal(0.0, noise.position, n)
+        mqd = mqd + rng.normal(0.0, noise.velocity, n)
+    return mq, mqd
+
+
+def _run_steps(
+    model: Plant,
+    controller: Controller,
+    references: References,
+    state: PlantState,
+    t: FloatArray,
+    step: float,
+    *,
+    delay: int,
+    noise: Noise | None,
+    disturbance: Impulse | None,
+    bar: _Progress | None,
+) -> _Series:
+    """Close the loop for every step: measure, command, delay, integrate; the time series."""
+    count, n = t.size - 1, state.q.size
+    rng = np.random.default_rng(noise.seed) if noise is not None else None
+    series = _Series.empty(count, n)
+    series.q[0], series.qd[0] = state.q, state.qd
+    # Until the first command arrives, the plant holds its start velocity without feed-forward.
+    queue: deque[tuple[FloatArray, FloatArray | None]] = deque([(state.qd.copy(), None)] * delay)
+    for k in range(count):
+        mq, mqd = _measure(state, noise, rng, n)
+        measured = State(float(t[k]), mq, mqd)
+        if k == 0:
+            controller.reset(measured)
+        started = time.perf_counter()
+        out = controller.step(measured, references[k], step)
+        series.step_time[k] = time.perf_counter() - started
+        qd_command, tau_command = _checked_command(controller, out, t[k], n)
+        if out.status != "ok":
+            series.fallbacks.append((float(t[k]), out.status))
+        queue.append((qd_command, tau_command))
+        sent, sent_tau = queue.popleft()
+        force = disturbance.force_during(t[k], t[k + 1]) if disturbance is not None else None
+        state = model.step(sent, step, force, torque=sent_tau)
+        series.measured_q[k], series.measured_qd[k] = mq, mqd
+        series.command[k], series.applied[k], series.tau[k] = qd_command, sent, state.tau
+        series.saturated += bool(state.saturated)
+        series.q[k + 1], series.qd[k + 1] = state.q, state.qd
+        if bar is not None:
+            bar.update(k + 1)
+    return series
+
+
 def simulate(
     robot: Robot,
     trajectory: Trajectory,
@@ -296,48 +468,11 @@ def simulate(
     step = as_duration(dt, "dt")
     delay = as_count(latency, "latency", maximum=MAX_STEPS)
     extra = as_number(settle, "settle", "s", minimum=0.0, maximum=MAX_DURATION)
-    for value, kind, name in ((noise, Noise, "noise"), (disturbance, Impulse, "disturbance")):
-        if value is not None and not isinstance(value, kind):
-            raise InvalidInputError(
-                f"{name} must be a controllers.{kind.__name__} or None, got "
-                f"{type(value).__name__} {value!r}",
-                name=name,
-            )
-    if not isinstance(controller, Controller):
-        raise InvalidInputError(
-            f"controller must be a controllers.Controller, got {type(controller).__name__}",
-            name="controller",
-        )
-    if not isinstance(trajectory, Trajectory):
-        raise InvalidInputError(
-            f"trajectory must be a planners.Trajectory, got {type(trajectory).__name__}",
-            name="trajectory",
-        )
-    own = getattr(controller, "robot", None)
-    if not isinstance(own, Robot) or own.fingerprint != robot.fingerprint:
-        mine = f"{own.name!r} ({own.dof} joints)" if isinstance(own, Robot) else repr(own)
-        other = " (another model of it: links, tool or limits differ)" if (
-            isinstance(own, Robot) and own.name == robot.name
-        ) else ""  # fmt: skip
-        raise InvalidInputError(
-            f"the controller is for robot {mine}, the simulation for {robot.name!r} "
-            f"({robot.dof} joints){other}; build the controller with the simulated robot",
-            name="controller",
-        )
-    if progress is not None:
-        as_flag(progress, "progress")
+    _check_parts(robot, trajectory, controller, noise, disturbance, progress)
     end = trajectory.duration
-    count = max(math.ceil((end + extra) / step - 1e-9), 1)
-    if count > MAX_STEPS:
-        raise InvalidInputError(
-            f"a run of {end + extra:.6g} s (plan and settle) at dt = {step:.6g} s takes {count} "
-            f"steps, more than {MAX_STEPS}; use dt >= {(end + extra) / MAX_STEPS:.3g} s or a "
-            "shorter settle",
-            name="dt",
-            value=dt,
-        )
+    count = _step_count(end, extra, step, dt)
     model = _plant(robot, plant)
-    t = np.arange(count + 1) * step
+    t: FloatArray = np.arange(count + 1, dtype=np.float64) * step
     references = _held_at_rest(sample_references(robot, trajectory, np.minimum(t, end)), t, end)
     n = robot.dof
     if q_start is None:
@@ -346,78 +481,32 @@ def simulate(
         q0 = as_vector(q_start, "q_start", n)
         robot.limits.check_position(q0, tolerance=1e-9, context="q_start")
     state = model.reset(q0, references.qd[0])
-    rng = np.random.default_rng(noise.seed) if noise is not None else None
-
-    q = np.empty((count + 1, n))
-    qd = np.empty((count + 1, n))
-    q[0], qd[0] = state.q, state.qd
-    measured_q = np.empty((count, n))
-    measured_qd = np.empty((count, n))
-    command = np.empty((count, n))
-    applied = np.empty((count, n))
-    tau = np.empty((count, n))
-    step_time = np.empty(count)
-    fallbacks: list[tuple[float, str]] = []
-    saturated = 0
-    # Until the first command arrives, the plant holds its start velocity without feed-forward.
-    queue: deque[tuple[FloatArray, FloatArray | None]] = deque([(state.qd.copy(), None)] * delay)
     show = progress if progress is not None else count > PROGRESS_STEPS and sys.stderr.isatty()
     bar = _Progress(count, f"simulate {controller.name}", sys.stderr) if show else None
-
-    for k in range(count):
-        mq, mqd = state.q, state.qd
-        if rng is not None and noise is not None:
-            mq = mq + rng.normal(0.0, noise.position, n)
-            mqd = mqd + rng.normal(0.0, noise.velocity, n)
-        measured = State(float(t[k]), mq, mqd)
-        if k == 0:
-            controller.reset(measured)
-        started = time.perf_counter()
-        out = controller.step(measured, references[k], step)
-        step_time[k] = time.perf_counter() - started
-        qd_command = np.asarray(out.qd, dtype=float)
-        if qd_command.shape != (n,) or not np.all(np.isfinite(qd_command)):
-            raise SolverError(
-                controller.name,
-                "bad command",
-                detail=f"at t = {t[k]:.4g} s it returned {qd_command!r}; expected {n} finite "
-                "joint velocities",
-            )
-        tau_command = None if out.tau is None else np.asarray(out.tau, dtype=float)
-        if tau_command is not None and (
-            tau_command.shape != (n,) or not np.all(np.isfinite(tau_command))
-        ):
-            raise SolverError(
-                controller.name,
-                "bad command",
-                detail=f"at t = {t[k]:.4g} s it returned the feed-forward torque "
-                f"{tau_command!r}; expected {n} finite joint torques or None",
-            )
-        if out.status != "ok":
-            fallbacks.append((float(t[k]), out.status))
-        queue.append((qd_command, tau_command))
-        sent, sent_tau = queue.popleft()
-        force = disturbance.force_during(t[k], t[k + 1]) if disturbance is not None else None
-        state = model.step(sent, step, force, torque=sent_tau)
-        measured_q[k], measured_qd[k] = mq, mqd
-        command[k], applied[k], tau[k] = qd_command, sent, state.tau
-        saturated += bool(state.saturated)
-        q[k + 1], qd[k + 1] = state.q, state.qd
-        if bar is not None:
-            bar.update(k + 1)
-
-    poses = robot.tool_pose(q)
+    series = _run_steps(
+        model,
+        controller,
+        references,
+        state,
+        t,
+        step,
+        delay=delay,
+        noise=noise,
+        disturbance=disturbance,
+        bar=bar,
+    )
+    poses = robot.tool_pose(series.q)
     metrics = tracking_metrics(
         robot,
         t,
         references,
-        q,
-        qd,
-        command,
-        tau,
-        step_time,
-        fallbacks=len(fallbacks),
-        saturated_steps=saturated,
+        series.q,
+        series.qd,
+        series.command,
+        series.tau,
+        series.step_time,
+        fallbacks=len(series.fallbacks),
+        saturated_steps=series.saturated,
         poses=poses,
     )
     return Result(
@@ -427,16 +516,16 @@ def simulate(
         plant=model.name,
         dt=step,
         t=t,
-        q=q,
-        qd=qd,
+        q=series.q,
+        qd=series.qd,
         T_world_tool=poses,
-        measured_q=measured_q,
-        measured_qd=measured_qd,
-        command=command,
-        applied=applied,
-        tau=tau,
-        step_time=step_time,
-        fallbacks=tuple(fallbacks),
+        measured_q=series.measured_q,
+        measured_qd=series.measured_qd,
+        command=series.command,
+        applied=series.applied,
+        tau=series.tau,
+        step_time=series.step_time,
+        fallbacks=tuple(series.fallbacks),
         references=references,
         metrics=metrics,
         record=model.record(),

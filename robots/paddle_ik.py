@@ -86,7 +86,7 @@ def paddle4_ik(robot: Robot, ball: ArrayLike, contact_angle: float = 0.0) -> Flo
     for axis, value in zip("xyz", p, strict=True):
         lower, upper = PADDLE4_WORKSPACE[axis]
         if not lower <= value <= upper:
-            raise WorkspaceError(p, axis, value, lower, upper)
+            raise WorkspaceError(p.tolist(), axis, value, lower, upper)
     alpha = p[0] - _J2_AXIS_X - _AXIS_TO_BALL * np.cos(angle)
     beta = p[1] - _AXIS_TO_BALL * np.sin(angle)
     theta2 = np.arctan2(beta, alpha)

@@ -36,76 +36,18 @@ import re
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any
 
 import casadi as ca
-import numpy as np
-import numpy.typing as npt
 import pinocchio as pin
 
-from optraj.errors import InvalidInputError, UnknownNameError, UnsupportedModelError
+from optraj.errors import InvalidInputError, UnknownNameError
+from optraj.robots.joints import Joint, joint_transform, read_joints
+from optraj.robots.rnea import rnea_expression
 from optraj.robots.robot import Robot
+from optraj.robots.spatial import const, cross, snap
 
 __all__ = ["SymbolicModel"]
-
-FloatArray = npt.NDArray[np.float64]
-Motion = tuple[ca.SX, ca.SX]
-"""Spatial motion vector as ``(linear, angular)``, each an ``SX`` of shape (3, 1)."""
-Force = tuple[ca.SX, ca.SX]
-"""Spatial force vector as ``(force, torque)``, each an ``SX`` of shape (3, 1)."""
-
-_REVOLUTE_AXES: dict[str, tuple[float, float, float]] = {
-    "JointModelRX": (1.0, 0.0, 0.0),
-    "JointModelRY": (0.0, 1.0, 0.0),
-    "JointModelRZ": (0.0, 0.0, 1.0),
-}
-_PRISMATIC_AXES: dict[str, tuple[float, float, float]] = {
-    "JointModelPX": (1.0, 0.0, 0.0),
-    "JointModelPY": (0.0, 1.0, 0.0),
-    "JointModelPZ": (0.0, 0.0, 1.0),
-}
-_REVOLUTE_UNALIGNED = "JointModelRevoluteUnaligned"
-_PRISMATIC_UNALIGNED = "JointModelPrismaticUnaligned"
-_SNAP_TOL = 1e-14
-_SUPPORTED_JOINTS = (
-    *_REVOLUTE_AXES,
-    *_PRISMATIC_AXES,
-    _REVOLUTE_UNALIGNED,
-    _PRISMATIC_UNALIGNED,
-)
-
-
-@dataclass(frozen=True)
-class _Joint:
-    """Constant description of one supported joint, read once from the Pinocchio model.
-
-    Attributes:
-        index: Joint index in the Pinocchio model (>= 1).
-        parent: Index of the parent joint (0 is the universe).
-        kind: ``"revolute"`` or ``"prismatic"``.
-        axis: Unit joint axis in the joint frame [-], shape (3,).
-        idx_q: Index of the joint coordinate in ``q``.
-        idx_v: Index of the joint velocity in ``v``.
-        rotation: Rotation of the joint placement w.r.t. the parent joint [-], shape (3, 3).
-        translation: Translation of the joint placement w.r.t. the parent joint [m], shape (3,).
-        mass: Body mass [kg].
-        com: Body centre of mass in the joint frame [m], shape (3,).
-        inertia: Rotational inertia about the centre of mass [kg m^2], shape (3, 3).
-        armature: Reflected rotor inertia added to the joint torque [kg m^2 or kg].
-    """
-
-    index: int
-    parent: int
-    kind: Literal["revolute", "prismatic"]
-    axis: FloatArray
-    idx_q: int
-    idx_v: int
-    rotation: FloatArray
-    translation: FloatArray
-    mass: float
-    com: FloatArray
-    inertia: FloatArray
-    armature: float
 
 
 @dataclass
@@ -121,225 +63,6 @@ class _Kinematics:
     q: ca.SX
     rotations: list[ca.SX]
     positions: list[ca.SX]
-
-
-@dataclass
-class _LocalPlacement:
-    """Placement of a joint frame in its parent joint frame, ``jointPlacements[i] * M_joint(q)``.
-
-    The rotation is available both factored (``fixed_rot @ joint_rot``, cheaper when chaining
-    world rotations) and multiplied out once (``rot``, cheaper when the same rotation is
-    applied to many vectors as in the RNEA).
-
-    Attributes:
-        fixed_rot: Constant rotation of the joint placement [-], shape (3, 3).
-        joint_rot: Rotation about the joint axis [-], shape (3, 3), or ``None`` (prismatic).
-        rot: ``fixed_rot @ joint_rot`` [-], shape (3, 3).
-        trans: Joint origin in the parent frame [m], shape (3, 1).
-    """
-
-    fixed_rot: ca.SX
-    joint_rot: ca.SX | None
-    rot: ca.SX
-    trans: ca.SX
-
-    def rotate(self, x: ca.SX) -> ca.SX:
-        """Rotate a child-frame vector into the parent frame, shape (3, 1) -> (3, 1)."""
-        return self.rot @ x
-
-    def rotate_inv(self, x: ca.SX) -> ca.SX:
-        """Rotate a parent-frame vector into the child frame, shape (3, 1) -> (3, 1)."""
-        return self.rot.T @ x
-
-
-# ---------------------------------------------------------------------------------------------
-# Small 3-D and spatial-algebra helpers on CasADi SX expressions.
-# ---------------------------------------------------------------------------------------------
-
-
-def _const(values: npt.ArrayLike) -> ca.SX:
-    """Wrap a numeric array as a dense SX constant (zeros stay as explicit constants).
-
-    Args:
-        values: Numeric vector or matrix.
-
-    Returns:
-        Dense SX constant with the same shape (vectors become columns).
-    """
-    return ca.SX(ca.DM(np.asarray(values, dtype=float)))
-
-
-def _snap(values: npt.ArrayLike) -> FloatArray:
-    """Replace round-off noise (e.g. ``cos(pi/2)`` from URDF ``rpy``) by exact zeros.
-
-    Exact zeros let CasADi drop the corresponding products, which keeps graphs compact; the
-    change is below 1e-14 and thus far beneath any meaningful tolerance.
-
-    Args:
-        values: Numeric array read from the Pinocchio model.
-
-    Returns:
-        Float copy with entries of magnitude below 1e-14 set to 0.
-    """
-    out = np.array(values, dtype=float)
-    out[np.abs(out) < _SNAP_TOL] = 0.0
-    return out
-
-
-def _cross(a: ca.SX, b: ca.SX) -> ca.SX:
-    """Cross product of two 3-vectors.
-
-    Args:
-        a: First vector, shape (3, 1).
-        b: Second vector, shape (3, 1).
-
-    Returns:
-        ``a x b``, shape (3, 1).
-    """
-    return ca.vertcat(
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    )
-
-
-def _skew(w: npt.ArrayLike) -> FloatArray:
-    """Numeric skew-symmetric matrix such that ``skew(w) @ x == w x x``.
-
-    Args:
-        w: Vector, shape (3,).
-
-    Returns:
-        Skew-symmetric matrix, shape (3, 3).
-    """
-    x, y, z = np.asarray(w, dtype=float)
-    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-
-
-def _axis_rotation(axis: FloatArray, cos_q: ca.SX, sin_q: ca.SX) -> ca.SX:
-    """Rotation matrix about a constant unit axis (Rodrigues), assembled entry by entry.
-
-    Each entry is ``(delta_ij - a_i a_j) cos + skew(a)_ij sin + a_i a_j``; terms whose numeric
-    coefficient vanishes are dropped so aligned axes give the familiar sparse matrices.
-
-    Args:
-        axis: Unit rotation axis [-], shape (3,).
-        cos_q: Cosine of the joint angle.
-        sin_q: Sine of the joint angle.
-
-    Returns:
-        Rotation matrix, shape (3, 3).
-    """
-    outer = np.outer(axis, axis)
-    cos_coeff = np.eye(3) - outer
-    sin_coeff = _skew(axis)
-    rows = []
-    for i in range(3):
-        row = []
-        for j in range(3):
-            entry = ca.SX(float(outer[i, j]))
-            if cos_coeff[i, j] != 0.0:
-                entry = entry + float(cos_coeff[i, j]) * cos_q
-            if sin_coeff[i, j] != 0.0:
-                entry = entry + float(sin_coeff[i, j]) * sin_q
-            row.append(entry)
-        rows.append(ca.horzcat(*row))
-    return ca.vertcat(*rows)
-
-
-def _motion_act_inv(placement: _LocalPlacement, m: Motion) -> Motion:
-    """Express a motion given in parent coordinates in child coordinates (``M.actInv``).
-
-    Args:
-        placement: Placement of the child frame in the parent frame.
-        m: Motion ``(linear, angular)`` in parent coordinates.
-
-    Returns:
-        The same motion in child coordinates.
-    """
-    lin, ang = m
-    return placement.rotate_inv(lin - _cross(placement.trans, ang)), placement.rotate_inv(ang)
-
-
-def _force_act(placement: _LocalPlacement, f: Force) -> Force:
-    """Express a force given in child coordinates in parent coordinates (``M.act``).
-
-    Args:
-        placement: Placement of the child frame in the parent frame.
-        f: Force ``(force, torque)`` in child coordinates.
-
-    Returns:
-        The same force in parent coordinates.
-    """
-    lin = placement.rotate(f[0])
-    return lin, placement.rotate(f[1]) + _cross(placement.trans, lin)
-
-
-def _motion_cross_motion(m1: Motion, m2: Motion) -> Motion:
-    """Spatial cross product of two motions, ``m1 x m2``.
-
-    Args:
-        m1: Motion ``(v1, w1)``.
-        m2: Motion ``(v2, w2)``.
-
-    Returns:
-        ``(w1 x v2 + v1 x w2, w1 x w2)``.
-    """
-    v1, w1 = m1
-    v2, w2 = m2
-    return _cross(w1, v2) + _cross(v1, w2), _cross(w1, w2)
-
-
-def _motion_cross_force(m: Motion, f: Force) -> Force:
-    """Dual spatial cross product of a motion and a force, ``m x* f``.
-
-    Args:
-        m: Motion ``(v, w)``.
-        f: Force ``(force, torque)``.
-
-    Returns:
-        ``(w x force, w x torque + v x force)``.
-    """
-    v, w = m
-    lin, ang = f
-    return _cross(w, lin), _cross(w, ang) + _cross(v, lin)
-
-
-def _inertia_times_motion(joint: _Joint, m: Motion) -> Force:
-    """Apply the spatial inertia of a body to a motion (momentum or ``I a``).
-
-    With mass ``mass``, centre of mass ``c`` and rotational inertia ``I_c`` about ``c``:
-    ``force = mass (v - c x w)`` and ``torque = I_c w + c x force``.
-
-    Args:
-        joint: Joint carrying the body (holds mass, COM and inertia).
-        m: Motion ``(v, w)`` in the joint frame.
-
-    Returns:
-        Spatial force in the joint frame.
-    """
-    v, w = m
-    com = _const(joint.com)
-    lin = joint.mass * (v - _cross(com, w))
-    return lin, _const(joint.inertia) @ w + _cross(com, lin)
-
-
-def _add(a: tuple[ca.SX, ca.SX], b: tuple[ca.SX, ca.SX]) -> tuple[ca.SX, ca.SX]:
-    """Add two spatial vectors of the same kind component by component.
-
-    Args:
-        a: First spatial vector.
-        b: Second spatial vector.
-
-    Returns:
-        Component-wise sum.
-    """
-    return a[0] + b[0], a[1] + b[1]
-
-
-# ---------------------------------------------------------------------------------------------
-# Public class.
-# ---------------------------------------------------------------------------------------------
 
 
 class SymbolicModel:
@@ -377,7 +100,7 @@ class SymbolicModel:
     def _setup(self, model: pin.Model) -> None:
         """Copy and validate the model and reset all lazily built expressions."""
         self._model: pin.Model = pin.Model(model)
-        self._joints: list[_Joint] = _read_joints(self._model)
+        self._joints: list[Joint] = read_joints(self._model)
         self._kin: _Kinematics | None = None
         self._cache: dict[tuple[str, int], ca.Function] = {}
         self._lock = threading.RLock()
@@ -537,9 +260,9 @@ class SymbolicModel:
             joint_index = int(self._model.frames[fid].parentJoint)
             while joint_index > 0:
                 joint = self._joints[joint_index - 1]
-                axis_world = kin.rotations[joint_index] @ _const(joint.axis)
+                axis_world = kin.rotations[joint_index] @ const(joint.axis)
                 if joint.kind == "revolute":
-                    lin = _cross(axis_world, p_frame - kin.positions[joint_index])
+                    lin = cross(axis_world, p_frame - kin.positions[joint_index])
                     columns[joint.idx_v] = ca.vertcat(lin, axis_world)
                 else:
                     columns[joint.idx_v] = ca.vertcat(axis_world, ca.SX.zeros(3, 1))
@@ -615,29 +338,6 @@ class SymbolicModel:
         tag = re.sub(r"[^0-9A-Za-z]+", "_", self._model.frames[fid].name).strip("_")
         return tag or f"frame{fid}"
 
-    def _joint_transform(self, joint: _Joint, q: ca.SX) -> _LocalPlacement:
-        """Placement of a joint frame in its parent joint frame at position ``q``.
-
-        Args:
-            joint: Joint description.
-            q: Full joint-position vector [rad or m], shape (nq, 1).
-
-        Returns:
-            ``jointPlacements[i] * joint_motion(q_i)`` in factored form.
-        """
-        q_i = q[joint.idx_q]
-        fixed_rot = _const(joint.rotation)
-        trans = _const(joint.translation)
-        if joint.kind == "revolute":
-            joint_rot = _axis_rotation(joint.axis, ca.cos(q_i), ca.sin(q_i))
-            return _LocalPlacement(
-                fixed_rot=fixed_rot, joint_rot=joint_rot, rot=fixed_rot @ joint_rot, trans=trans
-            )
-        shift = _const(_snap(joint.rotation @ joint.axis)) * q_i
-        return _LocalPlacement(
-            fixed_rot=fixed_rot, joint_rot=None, rot=fixed_rot, trans=trans + shift
-        )
-
     def _kinematics(self) -> _Kinematics:
         """Build (once) the symbolic world placement of every joint frame."""
         with self._lock:
@@ -649,7 +349,7 @@ class SymbolicModel:
             rotations: list[ca.SX] = [ca.SX.eye(3)]
             positions: list[ca.SX] = [ca.SX.zeros(3, 1)]
             for joint in self._joints:
-                local = self._joint_transform(joint, q)
+                local = joint_transform(joint, q)
                 if joint.parent == 0:
                     rot = local.fixed_rot
                     pos = local.trans
@@ -679,126 +379,10 @@ class SymbolicModel:
         rot_j = kin.rotations[joint_index]
         pos_j = kin.positions[joint_index]
         placement = frame.placement
-        rot = rot_j @ _const(_snap(placement.rotation))
-        pos = pos_j + rot_j @ _const(_snap(placement.translation).reshape(3))
+        rot = rot_j @ const(snap(placement.rotation))
+        pos = pos_j + rot_j @ const(snap(placement.translation).reshape(3))
         return rot, pos
 
     def _rnea_expression(self, q: ca.SX, v: ca.SX, a: ca.SX) -> ca.SX:
-        """RNEA in local joint frames (Featherstone), following Pinocchio's conventions.
-
-        Args:
-            q: Joint positions [rad or m], shape (nq, 1).
-            v: Joint velocities [rad/s or m/s], shape (nv, 1) (may be numeric zeros).
-            a: Joint accelerations [rad/s^2 or m/s^2], shape (nv, 1) (may be numeric zeros).
-
-        Returns:
-            Joint torques/forces [N m or N], shape (nv, 1).
-        """
-        n = len(self._joints)
-        gravity = self._model.gravity
-        zero = ca.SX.zeros(3, 1)
-        base_vel: Motion = (zero, zero)
-        base_acc: Motion = (_const(-gravity.linear), _const(-gravity.angular))
-
-        placements: list[_LocalPlacement] = []
-        vels: list[Motion] = []
-        forces: list[Force] = []
-        # Forward pass: velocities, accelerations (gravity folded into the base) and forces.
-        accs: list[Motion] = []
-        for joint in self._joints:
-            local = self._joint_transform(joint, q)
-            placements.append(local)
-            axis = _const(joint.axis)
-            qd = v[joint.idx_v]
-            qdd = a[joint.idx_v]
-            if joint.kind == "revolute":
-                s_qd: Motion = (zero, axis * qd)
-                s_qdd: Motion = (zero, axis * qdd)
-            else:
-                s_qd = (axis * qd, zero)
-                s_qdd = (axis * qdd, zero)
-            if joint.parent == 0:
-                parent_vel, parent_acc = base_vel, base_acc
-            else:
-                parent_vel, parent_acc = vels[joint.parent - 1], accs[joint.parent - 1]
-            vel = _add(_motion_act_inv(local, parent_vel), s_qd)
-            acc = _add(
-                _add(_motion_act_inv(local, parent_acc), s_qdd),
-                _motion_cross_motion(vel, s_qd),
-            )
-            vels.append(vel)
-            accs.append(acc)
-            forces.append(
-                _add(
-                    _inertia_times_motion(joint, acc),
-                    _motion_cross_force(vel, _inertia_times_motion(joint, vel)),
-                )
-            )
-
-        # Backward pass: project on the motion subspace and propagate to the parent.
-        tau: list[ca.SX] = [ca.SX(0.0)] * self.nv
-        for k in range(n - 1, -1, -1):
-            joint = self._joints[k]
-            lin, ang = forces[k]
-            axis = _const(joint.axis)
-            projected = ca.dot(axis, ang if joint.kind == "revolute" else lin)
-            if joint.armature != 0.0:
-                projected = projected + joint.armature * a[joint.idx_v]
-            tau[joint.idx_v] = projected
-            if joint.parent > 0:
-                forces[joint.parent - 1] = _add(
-                    forces[joint.parent - 1], _force_act(placements[k], forces[k])
-                )
-        return ca.vertcat(*tau) if tau else ca.SX.zeros(0, 1)
-
-
-def _read_joints(model: pin.Model) -> list[_Joint]:
-    """Read and validate the joints of a Pinocchio model.
-
-    Args:
-        model: Pinocchio model.
-
-    Returns:
-        One :class:`_Joint` per joint, universe excluded, in model order.
-
-    Raises:
-        UnsupportedModelError: If a joint type is not a supported 1-DOF revolute/prismatic.
-    """
-    joints: list[_Joint] = []
-    for index in range(1, model.njoints):
-        jmodel = model.joints[index]
-        jtype = jmodel.shortname()
-        name = model.names[index]
-        if jtype not in _SUPPORTED_JOINTS or jmodel.nq != 1 or jmodel.nv != 1:
-            raise UnsupportedModelError(
-                f"Joint {name!r} (index {index}) of model {model.name!r} has type {jtype}, "
-                f"which SymbolicModel does not support. Supported joint types: "
-                f"{', '.join(_SUPPORTED_JOINTS)}."
-            )
-        kind: Literal["revolute", "prismatic"]
-        if jtype in _REVOLUTE_AXES:
-            kind, axis = "revolute", np.array(_REVOLUTE_AXES[jtype])
-        elif jtype in _PRISMATIC_AXES:
-            kind, axis = "prismatic", np.array(_PRISMATIC_AXES[jtype])
-        else:
-            kind = "revolute" if jtype == _REVOLUTE_UNALIGNED else "prismatic"
-            axis = np.array(jmodel.extract().axis, dtype=float).reshape(3)
-        placement = model.jointPlacements[index]
-        inertia = model.inertias[index]
-        joints.append(
-            _Joint(
-                index=index,
-                parent=int(model.parents[index]),
-                kind=kind,
-                axis=axis,
-                idx_q=int(jmodel.idx_q),
-                idx_v=int(jmodel.idx_v),
-                rotation=_snap(placement.rotation),
-                translation=_snap(placement.translation).reshape(3),
-                mass=float(inertia.mass),
-                com=_snap(inertia.lever).reshape(3),
-                inertia=_snap(inertia.inertia),
-                armature=float(model.armature[jmodel.idx_v]),
-            )
-        )
-    return joints
+        """The RNEA joint torques of this model as expressions of ``q``, ``v`` and ``a``."""
+        return rnea_expression(self._joints, self._model.gravity, self.nv, q, v, a)

@@ -8,8 +8,10 @@ from conftest import get_robot
 from scipy.optimize import lsq_linear
 
 from optraj.controllers import diff_ik_qp
+from optraj.controllers.active_set import ActiveSet
 from optraj.controllers.controller import Reference, State
 from optraj.controllers.diff_ik_qp import DiffIKQP
+from optraj.controllers.osqp_workspace import OSQPWorkspace
 from optraj.controllers.qp_terms import Constraint, task_weights
 from optraj.errors import InvalidInputError, UnknownNameError
 
@@ -157,20 +159,20 @@ def test_a_wrong_active_set_guess_is_refused_and_osqp_decides():
     at_lower = np.isclose(expected, qp.lower, atol=1e-9)
     free = ~(at_upper | at_lower)
     assert at_upper.any() and free.any()
-    right = diff_ik_qp._ActiveSet(at_upper, at_lower)
+    right = ActiveSet(at_upper, at_lower)
     np.testing.assert_allclose(right.solve(qp), expected, atol=1e-9, rtol=0)
-    assert diff_ik_qp._ActiveSet.none(n).solve(qp) is None  # leaves the box
+    assert ActiveSet.none(n).solve(qp) is None  # leaves the box
     too_many = at_upper.copy()
     too_many[np.flatnonzero(free)[0]] = True  # a free joint held at its upper bound
-    assert diff_ik_qp._ActiveSet(too_many, at_lower).solve(qp) is None  # wrong multiplier
+    assert ActiveSet(too_many, at_lower).solve(qp) is None  # wrong multiplier
     too_few = at_upper.copy()
     too_few[np.flatnonzero(at_upper)[0]] = False  # a bound joint let free
-    assert diff_ik_qp._ActiveSet(too_few, at_lower).solve(qp) is None  # leaves its bound
+    assert ActiveSet(too_few, at_lower).solve(qp) is None  # leaves its bound
     command = controller.step(state, reference, DT)  # after reset: the empty guess
     assert controller.diagnostics["solver"] == "osqp"
     np.testing.assert_allclose(command.qd, expected, atol=1e-6, rtol=0)
     # Allowed to change the set, the controller finds the solution from every wrong guess.
-    for guess in (diff_ik_qp._ActiveSet.none(n), diff_ik_qp._ActiveSet(too_many, at_lower)):
+    for guess in (ActiveSet.none(n), ActiveSet(too_many, at_lower)):
         found = guess.search(qp, diff_ik_qp.ACTIVE_SET_CHANGES + 1)
         assert found is not None
         np.testing.assert_array_equal(found[0].upper, at_upper)
@@ -180,41 +182,6 @@ def test_a_wrong_active_set_guess_is_refused_and_osqp_decides():
     searching.reset(state)
     np.testing.assert_allclose(searching.step(state, reference, DT).qd, expected, atol=1e-9)
     assert searching.diagnostics["solver"] == "active set"
-
-
-def test_active_set_search_on_random_boxes_some_of_them_points():
-    # Box QPs of the controller's form (H = A'A + damping): every result the search returns
-    # is bounded least squares; joints whose bounds meet are held from either side.
-    rng = np.random.default_rng(24)
-    settled = 0
-    for _ in range(300):
-        n = 7
-        A = rng.normal(size=(6, n))
-        b = rng.normal(size=6)
-        H = A.T @ A + 1e-6 * np.eye(n)
-        lower = -rng.uniform(0.05, 1.0, n)
-        upper = rng.uniform(0.05, 1.0, n)
-        points = rng.random(n) < 0.3
-        lower[points] = upper[points] = rng.uniform(-0.5, 0.5, int(points.sum()))
-        qp = diff_ik_qp.QP(H, -A.T @ b, np.eye(n), lower, upper, ())
-        guess = diff_ik_qp._ActiveSet(rng.random(n) < 0.3, np.zeros(n, dtype=bool))
-        guess = diff_ik_qp._ActiveSet(guess.upper, (rng.random(n) < 0.3) & ~guess.upper)
-        found = guess.search(qp, diff_ik_qp.ACTIVE_SET_CHANGES + 1)
-        if found is None:
-            continue  # OSQP would decide
-        settled += 1
-        # Reference: the points' joints fixed, bounded least squares (scipy's bvls) over the
-        # others, with the damping as least-squares rows.
-        stacked = np.vstack([A, 1e-3 * np.eye(n)])
-        target = np.concatenate([b, np.zeros(n)]) - stacked[:, points] @ lower[points]
-        free = ~points
-        expected = lower.copy()
-        expected[free] = lsq_linear(
-            stacked[:, free], target, bounds=(lower[free], upper[free]), method="bvls", tol=1e-14
-        ).x
-        np.testing.assert_allclose(found[1], expected, atol=1e-7, rtol=0)
-        assert np.all(found[1] >= lower) and np.all(found[1] <= upper)
-    assert settled >= 270  # random guesses, up to 7 bounds off: most settle without OSQP
 
 
 def test_commands_never_leave_the_limits_in_a_random_stress():
@@ -269,7 +236,7 @@ def test_failure_falls_back_to_braking_within_limits(monkeypatch):
     def fail(self, qp):
         return False, "maximum iterations reached", 7, np.full(qp.c.size, np.nan), np.zeros(1)
 
-    monkeypatch.setattr(diff_ik_qp._Workspace, "solve", fail)
+    monkeypatch.setattr(OSQPWorkspace, "solve", fail)
     reference = _reference(robot, q, np.zeros(robot.dof))._replace(tau=np.ones(robot.dof))
     command = controller.step(state, reference, DT)
     assert command.fallback

@@ -13,8 +13,9 @@ import pytest
 from conftest import get_robot
 
 from optraj import controllers, planners, problems, robots
+from optraj.controllers.active_set import ActiveSet
 from optraj.controllers.controller import Reference, State
-from optraj.controllers.diff_ik_qp import DiffIKQP, _ActiveSet
+from optraj.controllers.diff_ik_qp import DiffIKQP
 from optraj.controllers.fused_step import FusedStep, _solve_on_set
 from optraj.controllers.qp_terms import QP, identity
 from optraj.controllers.simulation import Noise, simulate
@@ -70,7 +71,7 @@ def test_numbers_and_optimality_test_equal_the_pieces(name, settings):
         controller.pid._integral = integral.copy()
         qp = controller.build(state, reference, DT)  # advances the PID's integral
         # The QP's own active set (by the search) half the time, else one joint toggled.
-        found = None if qp.relaxed else _ActiveSet.none(robot.dof).search(qp, 20)
+        found = None if qp.relaxed else ActiveSet.none(robot.dof).search(qp, 20)
         upper, lower = (found[0].upper, found[0].lower) if found else (held, held)
         upper, lower = upper.copy(), lower.copy()
         if found is None or rng.random() < 0.5:
@@ -92,7 +93,7 @@ def test_numbers_and_optimality_test_equal_the_pieces(name, settings):
         np.testing.assert_array_equal(fused.lower, qp.lower)
         np.testing.assert_array_equal(fused.upper, qp.upper)
         np.testing.assert_allclose(fused.integral, controller.pid.integral, rtol=0, atol=1e-15)
-        active = _ActiveSet(upper, lower)
+        active = ActiveSet(upper, lower)
         x = active._on_bounds(qp)
         np.testing.assert_allclose(fused.x, x, rtol=0, atol=1e-9 * max(1.0, np.abs(x).max()))
         optimal = active._next(qp, x) is active
@@ -227,7 +228,7 @@ def test_one_round_equals_the_numpy_round_with_pinned_joints():
     round_ = ca.Function(
         "round",
         [H, c, lower, upper, held_upper, held_lower],
-        list(_solve_on_set(H, c, lower, upper, held_upper, held_lower, _ActiveSet.SLACK)),
+        list(_solve_on_set(H, c, lower, upper, held_upper, held_lower, ActiveSet.SLACK)),
     )
     rng = np.random.default_rng(48)
     kinds = {"optimal": 0, "changed": 0, "pinned held at lower": 0}
@@ -239,7 +240,7 @@ def test_one_round_equals_the_numpy_round_with_pinned_joints():
         width = rng.uniform(0.0, 1.0, n) * (rng.random(n) < 0.8)  # some bounds meet
         lo, up = middle - width, middle + width
         qp = QP(Hn, cn, identity(n), lo, up, ())
-        found = _ActiveSet.none(n).search(qp, 60)
+        found = ActiveSet.none(n).search(qp, 60)
         if found is None:
             continue
         up_mask, lo_mask = found[0].upper.copy(), found[0].lower.copy()
@@ -253,7 +254,7 @@ def test_one_round_equals_the_numpy_round_with_pinned_joints():
                 lo_mask[toggle],
                 not (up_mask[toggle] | lo_mask[toggle]),
             )
-        active = _ActiveSet(up_mask, lo_mask)
+        active = ActiveSet(up_mask, lo_mask)
         x = active._on_bounds(qp)
         following = active._next(qp, x)
         xf, ok, next_upper, next_lower = (

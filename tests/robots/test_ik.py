@@ -9,7 +9,7 @@ from conftest import ALL_ROBOTS, get_robot
 from optraj.errors import InvalidInputError, UnknownNameError, UnreachableError
 from optraj.robots import ik as ik_module
 from optraj.robots import solve_ik
-from optraj.robots.ik import LocalIK, _levenberg_marquardt, _levenberg_marquardt_batch, _PoseError
+from optraj.robots.ik import LocalIK
 
 
 @pytest.mark.parametrize("name", ALL_ROBOTS)
@@ -189,29 +189,6 @@ def test_abandoning_stalled_restarts_saves_iterations_and_keeps_solutions_valid(
         again = solve_ik(robot, T[:3, 3], abandon_stalled=True, **kwargs)
         np.testing.assert_array_equal(again.solutions, quick.solutions)
     assert saved > 0  # stalled restarts were given up early
-
-
-def test_batched_attempts_take_the_steps_each_takes_alone():
-    # Random restarts run side by side; each must end where it ends run alone, here also
-    # where the solution holds a joint on its lower limit (the held-joint steps).
-    robot = get_robot("sawyer")
-    rng = np.random.default_rng(5)
-    q_true = robot.random_configurations(1, rng)[0]
-    q_true[1] = robot.limits.lower[1]
-    T = robot.tool_pose(q_true)
-    problem = _PoseError(robot, robot.tool_frame_id, T[:3, 3], None, T[:3, 2])
-    starts = np.clip(
-        q_true + rng.uniform(-0.3, 0.3, (16, robot.dof)), robot.limits.lower, robot.limits.upper
-    )
-    batch = _levenberg_marquardt_batch(problem, starts, 1e-9, 500)
-    on_limit = 0
-    for start, together in zip(starts, batch, strict=True):
-        alone = _levenberg_marquardt(problem, start, 1e-9, 500)
-        assert together.iterations == alone.iterations
-        np.testing.assert_allclose(together.q, alone.q, rtol=0, atol=1e-12)
-        assert together.worst_error <= 1e-9
-        on_limit += bool(together.q[1] <= robot.limits.lower[1])
-    assert on_limit >= 4  # the held-joint path was taken
 
 
 def test_restarts_in_batches_find_the_solutions_found_one_by_one(monkeypatch):
