@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from typing import Any, Literal
+import time
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -24,18 +25,23 @@ from optraj.planners.ocp.problem import (
     Spec,
     WarmStart,
 )
+from optraj.planners.ocp.refinement import fixed_name
 from optraj.planners.strike.contact import (
     BRANCH_SPREAD,
     ContactChoice,
+    choose_contact,
     contact_near,
 )
-from optraj.planners.time_optimal.lower_bound import joint_min_durations
+from optraj.planners.time_optimal.lower_bound import check_state_torques, joint_min_durations
 from optraj.planners.time_optimal.ruckig_planner import stop
 from optraj.planners.trajectory import Phase, Trajectory
 from optraj.problems import PaddleStrike, PointToPoint, PoolStrike, Waypoints
 from optraj.problems.common import normal_pair
 from optraj.robots import JointLimits
 from optraj.robots.paddle_ik import BALL_OFFSET
+
+if TYPE_CHECKING:
+    from optraj.planners.ocp.optimal_control import OptimalControl
 
 FloatArray = NDArray[np.float64]
 
@@ -338,3 +344,67 @@ def paddle_spec(problem: PaddleStrike, choice: ContactChoice) -> Spec:
         contact_phase=0,
         contact=choice,
     )
+
+
+def problem_spec(planner: OptimalControl, problem: Any) -> Spec:
+    """The problem's phases, fixed states and guess; its fixed states' torques checked.
+
+    Raises:
+        InfeasibleError: A state the problem fixes (start, goal) needs more torque than
+            the effort limits
+            (:func:`planners.time_optimal.lower_bound.check_state_torques`), unless
+            ``torque=False``; a strike no contact configuration can make.
+    """
+    if isinstance(problem, PointToPoint):
+        problem.require_motion(planner.name)
+        return planner._held(point_to_point_spec(problem))
+    if isinstance(problem, Waypoints):
+        problem.require_motion(planner.name)
+        return planner._held(waypoints_spec(problem))
+    if isinstance(problem, (PoolStrike, PaddleStrike)):
+        planner._strike_start_held(problem)
+        started = time.perf_counter()
+        # The margin the NLP keeps from the velocity limits: a contact past it is refused
+        # here, with its binding joint, instead of by an infeasible solve.
+        choice = choose_contact(
+            problem, candidates=planner.contact_candidates, margin=planner.margin
+        )
+        searched = time.perf_counter() - started
+        spec = (
+            pool_spec(problem, choice)
+            if isinstance(problem, PoolStrike)
+            else paddle_spec(problem, choice)
+        )
+        spec.contact_time = searched
+        return spec
+    raise InvalidInputError(
+        f"OptimalControl plans a PointToPoint, Waypoints, PoolStrike or PaddleStrike, got "
+        f"{type(problem).__name__}",
+        name="problem",
+    )
+
+
+def held_spec(planner: OptimalControl, spec: Spec) -> Spec:
+    """``spec``, once the torques of its fully fixed states are within the effort limits.
+
+    Raises:
+        InfeasibleError: One needs more (unless ``torque=False``, which plans without
+            torque limits).
+    """
+    if planner.torque is not False:
+        last = len(spec.names) - 1
+        states = [
+            (fixed_name(f, last), f.q, f.qd, f.qdd)
+            for f in spec.fixed
+            if f.q is not None and f.qd is not None and f.qdd is not None and not f.tolerance
+        ]
+        check_state_torques(spec.robot, spec.limits, states)
+    return spec
+
+
+def check_strike_start_held(planner: OptimalControl, problem: PoolStrike | PaddleStrike) -> None:
+    """Check a strike's start at rest before its contact choice (:meth:`_held`)."""
+    if planner.torque is not False:
+        zeros = zero_vector(problem.limits.n)
+        start = ("the start state (at rest)", problem.q_start, zeros, zeros)
+        check_state_torques(problem.robot, problem.limits, [start])

@@ -41,11 +41,11 @@ def test_a_quintic_guess_joins_rest_to_the_given_end_state():
     q0, q1 = np.zeros(3), np.array([0.3, -0.2, 0.1])
     v1, a1 = np.array([0.1, 0.0, -0.1]), np.array([0.0, 0.5, 0.0])
     traj = quintic_guess(q0, q1, 2.0, v1, a1)
-    start, end = traj.sample(np.array([0.0, 2.0])).position
+    start, end = traj.sample(np.array([0.0, 2.0])).q
     np.testing.assert_allclose(start, q0, atol=1e-12)
     np.testing.assert_allclose(end, q1, atol=1e-12)
-    np.testing.assert_allclose(traj.sample(np.array([2.0])).velocity[0], v1, atol=1e-12)
-    np.testing.assert_allclose(traj.sample(np.array([2.0])).acceleration[0], a1, atol=1e-12)
-    np.testing.assert_allclose(traj.sample(np.array([0.0])).velocity[0], 0.0, atol=1e-12)
+    np.testing.assert_allclose(traj.sample(np.array([2.0])).qd[0], v1, atol=1e-12)
+    np.testing.assert_allclose(traj.sample(np.array([2.0])).qdd[0], a1, atol=1e-12)
+    np.testing.assert_allclose(traj.sample(np.array([0.0])).qd[0], 0.0, atol=1e-12)
     rest = quintic_guess(q0, q1, 1.0)
-    np.testing.assert_allclose(rest.sample(np.array([1.0])).velocity[0], 0.0, atol=1e-12)
+    np.testing.assert_allclose(rest.sample(np.array([1.0])).qd[0], 0.0, atol=1e-12)
