@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from conftest import get_robot
 
+import optraj.planners.ocp.budget as budget
 import optraj.planners.ocp.solve as solve
-import optraj.planners.ocp.transcription as transcription
 from optraj import problems
 from optraj.errors import (
     SolverError,
@@ -67,7 +67,7 @@ def test_a_budget_spent_inside_a_solve_stops_it_and_no_contact_retry_swallows_it
     # then finds the deadline past and stops it at its first iteration.
     checks = iter([1.0, 1.0])
     monkeypatch.setattr(solve, "time_left", lambda: next(checks, -1.0))
-    monkeypatch.setattr(transcription, "time_left", lambda: -1.0)
+    monkeypatch.setattr(budget, "time_left", lambda: -1.0)
     problem = next(_shots(1, speed=1.0))
     with pytest.raises(SolverError, match="User_Requested_Stop") as info:
         OptimalControl(contact_retries=2).plan(problem)
