@@ -242,46 +242,36 @@ def _nlpsol(compiled: CompiledNLP, options: dict[str, Any]) -> ca.Function:
     return ca.nlpsol("optraj_ocp", compiled.structure.solver, nlp, thawed)
 
 
-def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
-    """Build the NLP of ``structure`` (fully expanded SX) and its solver.
+@dataclass(frozen=True)
+class _Nodes:
+    """The decision vector's node states in physical units (scaled by ``mid``, ``half``...)."""
 
-    Args:
-        structure: The NLP's shape and constants.
-        symbolic: Symbolic kinematics and dynamics of the robot.
+    w: ca.SX
+    layout: Layout
+    mid: FloatArray
+    half: FloatArray
+    vel: FloatArray
+    acc: FloatArray
 
-    Returns:
-        The compiled NLP.
-    """
-    lower, upper, vel, acc, jerk, effort = (np.asarray(r) for r in structure.limits)
-    n = lower.size
-    layout = Layout(n, structure.intervals)
-    mid, half = 0.5 * (lower + upper), 0.5 * (upper - lower)
-    as_choice(structure.torque_rows, "torque rows", TORQUE_ROWS)
-    w = ca.SX.sym("w", layout.size)
-    base = sum(size for _, size in PARAMETERS)
-    p = ca.SX.sym("p", base + torque_parameter_count(structure))
-    params: dict[str, ca.SX] = {}
-    offset = 0
-    for name, size in PARAMETERS:
-        params[name] = p[offset : offset + size]
-        offset += size
-
-    h = [w[k] for k in range(layout.K)]
-
-    def physical(z: ca.SX) -> tuple[ca.SX, ca.SX, ca.SX]:
+    def physical(self, z: ca.SX) -> tuple[ca.SX, ca.SX, ca.SX]:
         """(q, qd, qdd) of a scaled node state ``z = (zq, zv, za)``."""
-        return mid + half * z[:n], vel * z[n : 2 * n], acc * z[2 * n :]
+        n = self.layout.n
+        return self.mid + self.half * z[:n], self.vel * z[n : 2 * n], self.acc * z[2 * n :]
 
-    def node_state(node: int) -> ca.SX:
-        return w[layout.x_index(node, 0).start : layout.x_index(node, 2).stop]
+    def node_state(self, node: int) -> ca.SX:
+        """The scaled state ``(zq, zv, za)`` of ``node``, shape (3 n,)."""
+        return self.w[self.layout.x_index(node, 0).start : self.layout.x_index(node, 2).stop]
 
-    def state(node: int) -> tuple[ca.SX, ca.SX, ca.SX]:
-        return physical(node_state(node))
+    def state(self, node: int) -> tuple[ca.SX, ca.SX, ca.SX]:
+        """(q, qd, qdd) of ``node``."""
+        return self.physical(self.node_state(node))
 
-    rows = Rows()
-    keep = 1.0 - structure.margin
+
+def _grid_terms(
+    rows: Rows, structure: Structure, layout: Layout, h: list[ca.SX], time_scale: ca.SX
+) -> ca.SX:
+    """The time and grid cost terms; uniform-grid rows when a free grid is not allowed."""
     weights = dict(structure.weights)
-    time_scale = params["time_scale"]
     cost = ca.SX(0.0)
     for k in range(layout.K):
         phase = int(layout.phase_of[k])
@@ -292,13 +282,32 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
                 rows.add("uniform grid", h[k + 1] - h[k], 0.0, 0.0)
             elif weights.get("grid", 0.0):
                 cost += weights["grid"] * layout.K * ((h[k + 1] - h[k]) / time_scale) ** 2
+    return cost
 
-    rnea = symbolic.rnea()
+
+def _interval_terms(
+    rows: Rows,
+    structure: Structure,
+    nodes: _Nodes,
+    h: list[ca.SX],
+    scales: tuple[FloatArray, FloatArray, ca.SX],
+    rnea: ca.Function,
+    cost: ca.SX,
+) -> ca.SX:
+    """Each interval's dynamics and between-node rows, and ``cost`` plus its integral terms.
+
+    ``scales`` holds the jerk and effort limits and the objective's time scale.
+    """
+    jerk, effort, time_scale = scales
+    layout, mid, half, vel, acc = nodes.layout, nodes.mid, nodes.half, nodes.vel, nodes.acc
+    n = layout.n
+    keep = 1.0 - structure.margin
+    weights = dict(structure.weights)
     for k in range(layout.K):
         hk = h[k]
-        q0, v0, a0 = state(k)
-        q1, v1, a1 = state(k + 1)
-        zu = w[layout.u_index(k)]
+        q0, v0, a0 = nodes.state(k)
+        q1, v1, a1 = nodes.state(k + 1)
+        zu = nodes.w[layout.u_index(k)]
         u = jerk * zu
         q_next, v_next, a_next = jerk_step(hk, q0, v0, a0, u)
         rows.add(
@@ -336,29 +345,80 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
         if weights.get("effort", 0.0):
             tau = rnea(q0, v0, a0) / effort
             cost += weights["effort"] * hk * ca.sumsqr(tau) / (n * time_scale)
+    return cost
 
-    if structure.strike_phase >= 0:
-        strike_rows(rows, structure, layout, symbolic, params, h, state)
-    if structure.contact_node >= 0:
-        contact_rows(rows, structure, symbolic, params, state)
+
+def _torque_terms(
+    rows: Rows,
+    structure: Structure,
+    nodes: _Nodes,
+    p: ca.SX,
+    base: int,
+    rnea: ca.Function,
+    effort: FloatArray,
+) -> ca.Function | None:
+    """The torque rows at the structure's torque nodes; the mapped expansion of linear ones.
+
+    The linear rows' coefficients are the parameters of ``p`` from ``base`` on.
+    """
+    n = nodes.layout.n
     expansion = None
     if structure.torque_rows == "linear":
         size = n + 3 * n * n
         for i, node in enumerate(structure.torque_nodes):
             block = p[base + i * size : base + (i + 1) * size]
-            z = node_state(node)
+            z = nodes.node_state(node)
             row = block[:n] + ca.reshape(block[n:], n, 3 * n) @ z
             rows.add("torque", row, -1.0, 1.0, joints=n, at=node)
         if structure.torque_nodes:
             z = ca.SX.sym("z", 3 * n)
-            t = rnea(*physical(z)) / effort
+            t = rnea(*nodes.physical(z)) / effort
             single = ca.Function("torque_expansion", [z], [t, ca.jacobian(t, z)])
             expansion = single.map(len(structure.torque_nodes))
     else:
         for node in structure.torque_nodes:
-            tau = rnea(*state(node)) / effort
+            tau = rnea(*nodes.state(node)) / effort
             limit = 1.0 - structure.torque_margin
             rows.add("torque", tau, -limit, limit, joints=n, at=node)
+    return expansion
+
+
+def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
+    """Build the NLP of ``structure`` (fully expanded SX) and its solver.
+
+    Args:
+        structure: The NLP's shape and constants.
+        symbolic: Symbolic kinematics and dynamics of the robot.
+
+    Returns:
+        The compiled NLP.
+    """
+    lower, upper, vel, acc, jerk, effort = (np.asarray(r) for r in structure.limits)
+    n = lower.size
+    layout = Layout(n, structure.intervals)
+    mid, half = 0.5 * (lower + upper), 0.5 * (upper - lower)
+    as_choice(structure.torque_rows, "torque rows", TORQUE_ROWS)
+    w = ca.SX.sym("w", layout.size)
+    base = sum(size for _, size in PARAMETERS)
+    p = ca.SX.sym("p", base + torque_parameter_count(structure))
+    params: dict[str, ca.SX] = {}
+    offset = 0
+    for name, size in PARAMETERS:
+        params[name] = p[offset : offset + size]
+        offset += size
+
+    h = [w[k] for k in range(layout.K)]
+    nodes = _Nodes(w, layout, mid, half, vel, acc)
+    rows = Rows()
+    time_scale = params["time_scale"]
+    cost = _grid_terms(rows, structure, layout, h, time_scale)
+    rnea = symbolic.rnea()
+    cost = _interval_terms(rows, structure, nodes, h, (jerk, effort, time_scale), rnea, cost)
+    if structure.strike_phase >= 0:
+        strike_rows(rows, structure, layout, symbolic, params, h, nodes.state)
+    if structure.contact_node >= 0:
+        contact_rows(rows, structure, symbolic, params, nodes.state)
+    expansion = _torque_terms(rows, structure, nodes, p, base, rnea, effort)
 
     g = ca.vertcat(*rows.rows)
     compiled = CompiledNLP(
