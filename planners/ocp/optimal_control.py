@@ -30,7 +30,6 @@ Example::
 from __future__ import annotations
 
 import math
-import re
 import threading
 import time
 from collections.abc import Mapping
@@ -89,6 +88,12 @@ from optraj.planners.ocp.options import (
     TIME_BUDGET,
     TORQUE_POINTS,
     TORQUE_WATCH,
+    checked_fraction,
+    checked_intervals,
+    checked_max_interval,
+    checked_position_rows,
+    checked_solver_options,
+    checked_torque,
     objective_weights,
     solver_name,
 )
@@ -277,55 +282,15 @@ class OptimalControl(CompiledCache):
         self.weights = objective_weights(objective)
         self.objective = objective if isinstance(objective, str) else dict(self.weights)
         self.solver = solver_name(solver)
-        if solver_options is not None and not isinstance(solver_options, Mapping):
-            raise InvalidInputError(
-                f"solver_options must be a mapping of option names to values, got "
-                f"{solver_options!r}",
-                name="solver_options",
-            )
-        self.solver_options = dict(solver_options or {})
-        if intervals is not None and not isinstance(intervals, Mapping):
-            intervals = as_count(intervals, "intervals", 1, MAX_PHASE_INTERVALS)
-        elif isinstance(intervals, Mapping):
-            for key in intervals:
-                if not (key in PHASE_NAMES or re.fullmatch(r"segment [1-9][0-9]*", str(key))):
-                    raise InvalidInputError(
-                        f"intervals names a phase {key!r} that no problem has; phases are "
-                        f"{', '.join(PHASE_NAMES)} and 'segment <k>' (Waypoints, from 1)",
-                        name="intervals",
-                    )
-            intervals = {
-                str(k): as_count(v, f"intervals[{k!r}]", 1, MAX_PHASE_INTERVALS)
-                for k, v in intervals.items()
-            }
-        self.intervals = intervals
+        self.solver_options = checked_solver_options(solver_options)
+        self.intervals = checked_intervals(intervals)
         self.step = as_positive(step, "step", "s", maximum=MAX_DURATION)
         self.strike_step = as_positive(strike_step, "strike_step", "s", maximum=MAX_DURATION)
-        self.max_interval = as_positive(max_interval, "max_interval", "s", maximum=MAX_DURATION)
-        if self.max_interval <= MIN_INTERVAL:
-            raise InvalidInputError(
-                f"max_interval must be > {MIN_INTERVAL:g} s (the shortest interval), got "
-                f"{self.max_interval:.6g} s",
-                name="max_interval",
-            )
-        for name, value in (("margin", margin), ("torque_margin", torque_margin)):
-            fraction = as_number(value, name, minimum=0.0, maximum=0.5)
-            if fraction == 0.5:
-                raise InvalidInputError(f"{name} must be < 0.5, got {value!r}", name=name)
-            setattr(self, name, fraction)
-        if not (isinstance(torque, bool) or (isinstance(torque, str) and torque == "auto")):
-            raise InvalidInputError(
-                f"torque must be 'auto', True or False, got {torque!r}", name="torque"
-            )
-        self.torque = torque
-        if not (
-            position_rows is True or (isinstance(position_rows, str) and position_rows == "auto")
-        ):
-            raise InvalidInputError(
-                f"position_rows must be 'auto' or True, got {position_rows!r}",
-                name="position_rows",
-            )
-        self.position_rows = position_rows
+        self.max_interval = checked_max_interval(max_interval)
+        self.margin = checked_fraction("margin", margin)
+        self.torque_margin = checked_fraction("torque_margin", torque_margin)
+        self.torque = checked_torque(torque)
+        self.position_rows = checked_position_rows(position_rows)
         as_choice(torque_rows, "torque rows", TORQUE_ROWS)
         self.torque_rows = torque_rows
         self.regularization = as_number(regularization, "regularization", minimum=0.0)

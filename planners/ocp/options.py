@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -16,8 +18,11 @@ from optraj.planners.strike.contact import (
     HEADROOM,
 )
 from optraj.validation import (
+    MAX_DURATION,
     as_choice,
+    as_count,
     as_number,
+    as_positive,
 )
 
 FloatArray = NDArray[np.float64]
@@ -135,3 +140,72 @@ def solver_name(solver: str) -> str:
             feature=f"OptimalControl(solver={solver!r})",
         )
     return solver
+
+
+def checked_solver_options(solver_options: Mapping[str, Any] | None) -> dict[str, Any]:
+    """A copy of ``solver_options`` (None for none), checked to be a mapping."""
+    if solver_options is not None and not isinstance(solver_options, Mapping):
+        raise InvalidInputError(
+            f"solver_options must be a mapping of option names to values, got {solver_options!r}",
+            name="solver_options",
+        )
+    return dict(solver_options or {})
+
+
+def checked_intervals(
+    intervals: int | Mapping[str, int] | None,
+) -> int | dict[str, int] | None:
+    """``intervals`` checked: a count for every phase, counts by phase name, or None."""
+    if intervals is not None and not isinstance(intervals, Mapping):
+        intervals = as_count(intervals, "intervals", 1, MAX_PHASE_INTERVALS)
+    elif isinstance(intervals, Mapping):
+        for key in intervals:
+            if not (key in PHASE_NAMES or re.fullmatch(r"segment [1-9][0-9]*", str(key))):
+                raise InvalidInputError(
+                    f"intervals names a phase {key!r} that no problem has; phases are "
+                    f"{', '.join(PHASE_NAMES)} and 'segment <k>' (Waypoints, from 1)",
+                    name="intervals",
+                )
+        intervals = {
+            str(k): as_count(v, f"intervals[{k!r}]", 1, MAX_PHASE_INTERVALS)
+            for k, v in intervals.items()
+        }
+    return intervals
+
+
+def checked_max_interval(max_interval: float) -> float:
+    """``max_interval`` [s] checked to be longer than :data:`MIN_INTERVAL`."""
+    value = as_positive(max_interval, "max_interval", "s", maximum=MAX_DURATION)
+    if value <= MIN_INTERVAL:
+        raise InvalidInputError(
+            f"max_interval must be > {MIN_INTERVAL:g} s (the shortest interval), got {value:.6g} s",
+            name="max_interval",
+        )
+    return value
+
+
+def checked_fraction(name: str, value: float) -> float:
+    """A margin ``value`` [-] checked to lie in [0, 0.5)."""
+    fraction = as_number(value, name, minimum=0.0, maximum=0.5)
+    if fraction == 0.5:
+        raise InvalidInputError(f"{name} must be < 0.5, got {value!r}", name=name)
+    return fraction
+
+
+def checked_torque(torque: bool | str) -> bool | str:
+    """``torque`` checked to be ``"auto"``, True or False."""
+    if not (isinstance(torque, bool) or (isinstance(torque, str) and torque == "auto")):
+        raise InvalidInputError(
+            f"torque must be 'auto', True or False, got {torque!r}", name="torque"
+        )
+    return torque
+
+
+def checked_position_rows(position_rows: bool | str) -> bool | str:
+    """``position_rows`` checked to be ``"auto"`` or True."""
+    if not (position_rows is True or (isinstance(position_rows, str) and position_rows == "auto")):
+        raise InvalidInputError(
+            f"position_rows must be 'auto' or True, got {position_rows!r}",
+            name="position_rows",
+        )
+    return position_rows
