@@ -33,6 +33,7 @@ from optraj.planners.ocp.solution import (
 )
 from optraj.planners.ocp.transcription import (
     CompiledNLP,
+    Layout,
     Structure,
     compile_nlp,
     freeze_options,
@@ -198,47 +199,8 @@ def build_problem(
         options=planner._options(),
     )
     compiled = planner._compile(structure, spec.robot)
-    layout = compiled.layout
-    mid, half, vel, acc, _ = compiled.scale
     keep = 1.0 - planner.margin
-
-    lbx = np.empty(layout.size)
-    ubx = np.empty(layout.size)
-    for i, grid in enumerate(grids):
-        index = slice(layout.first_node[i], layout.first_node[i + 1])
-        if grid.duration is None:
-            lbx[index], ubx[index] = MIN_INTERVAL, planner.max_interval
-        else:
-            lbx[index] = ubx[index] = grid.duration / grid.intervals
-    x_lower = np.concatenate([-np.ones(spec.limits.n), -keep * np.ones(2 * spec.limits.n)])
-    lbx[layout.x_start : layout.u_start] = np.tile(x_lower, layout.nodes)
-    ubx[layout.x_start : layout.u_start] = np.tile(-x_lower, layout.nodes)
-    lbx[layout.u_start :] = -keep
-    ubx[layout.u_start :] = keep
-    if spec.strike_phase >= 0 and spec.contact is not None:
-        caps = strike_caps(spec.contact.ratio, keep)
-        for node in range(int(first[spec.strike_phase]), int(first[spec.strike_phase + 1]) + 1):
-            for block, cap in ((1, caps[0]), (2, caps[1])):
-                index = layout.x_index(node, block)
-                lbx[index], ubx[index] = -cap, cap
-    if shrink is not None:  # node position bounds moved in (fixed states override them)
-        for node in range(layout.nodes):
-            index = layout.x_index(node, 0)
-            lbx[index] = -1.0 + shrink[node, 0] / half
-            ubx[index] = 1.0 - shrink[node, 1] / half
-    for fixed in spec.fixed:
-        node = int(first[fixed.phase] if fixed.at == "start" else first[fixed.phase + 1])
-        for block, value, scale, shift in (
-            (0, fixed.q, half, mid),
-            (1, fixed.qd, vel, 0.0),
-            (2, fixed.qdd, acc, 0.0),
-        ):
-            if value is None:
-                continue
-            tol = fixed.tolerance if block == 0 else 0.0
-            index = layout.x_index(node, block)
-            lbx[index] = (value - tol - shift) / scale
-            ubx[index] = (value + tol - shift) / scale
+    lbx, ubx = _decision_bounds(spec, grids, compiled, first, keep, planner.max_interval, shrink)
 
     x0, lam_x0, lam_g0 = planner._initial(spec, grids, compiled, lbx, ubx, warm_start)
     params = dict(spec.params)
@@ -265,6 +227,91 @@ def build_problem(
         contact=spec.contact,
         guess=spec.guess,
     )
+
+
+def _decision_bounds(
+    spec: Spec,
+    grids: tuple[PhaseGrid, ...],
+    compiled: CompiledNLP,
+    first: NDArray[np.int_],
+    keep: float,
+    max_interval: float,
+    shrink: FloatArray | None,
+) -> tuple[FloatArray, FloatArray]:
+    """Scaled bounds (lbx, ubx) of the decision vector: grid, limits, strike caps, fixed states.
+
+    ``first`` holds each phase's first node, ``keep`` the fraction of the limits kept and
+    ``shrink`` the node position bounds moved in, shape (nodes, 2, n) [rad or m], or None.
+    """
+    layout = compiled.layout
+    half = compiled.scale[1]
+    lbx = np.empty(layout.size)
+    ubx = np.empty(layout.size)
+    for i, grid in enumerate(grids):
+        index = slice(layout.first_node[i], layout.first_node[i + 1])
+        if grid.duration is None:
+            lbx[index], ubx[index] = MIN_INTERVAL, max_interval
+        else:
+            lbx[index] = ubx[index] = grid.duration / grid.intervals
+    x_lower = np.concatenate([-np.ones(spec.limits.n), -keep * np.ones(2 * spec.limits.n)])
+    lbx[layout.x_start : layout.u_start] = np.tile(x_lower, layout.nodes)
+    ubx[layout.x_start : layout.u_start] = np.tile(-x_lower, layout.nodes)
+    lbx[layout.u_start :] = -keep
+    ubx[layout.u_start :] = keep
+    if spec.strike_phase >= 0 and spec.contact is not None:
+        _cap_strike_nodes(lbx, ubx, spec.contact.ratio, spec.strike_phase, layout, first, keep)
+    if shrink is not None:  # node position bounds moved in (fixed states override them)
+        for node in range(layout.nodes):
+            index = layout.x_index(node, 0)
+            lbx[index] = -1.0 + shrink[node, 0] / half
+            ubx[index] = 1.0 - shrink[node, 1] / half
+    _fix_states(lbx, ubx, spec, compiled, first)
+    return lbx, ubx
+
+
+def _cap_strike_nodes(
+    lbx: FloatArray,
+    ubx: FloatArray,
+    ratio: float,
+    strike_phase: int,
+    layout: Layout,
+    first: NDArray[np.int_],
+    keep: float,
+) -> None:
+    """Bound the strike nodes' velocities and accelerations by :func:`strike_caps`, in place.
+
+    ``ratio`` is the contact's largest fraction of a velocity limit [-].
+    """
+    caps = strike_caps(ratio, keep)
+    for node in range(int(first[strike_phase]), int(first[strike_phase + 1]) + 1):
+        for block, cap in ((1, caps[0]), (2, caps[1])):
+            index = layout.x_index(node, block)
+            lbx[index], ubx[index] = -cap, cap
+
+
+def _fix_states(
+    lbx: FloatArray,
+    ubx: FloatArray,
+    spec: Spec,
+    compiled: CompiledNLP,
+    first: NDArray[np.int_],
+) -> None:
+    """Pin the spec's fixed node states by equal bounds (within their tolerance), in place."""
+    layout = compiled.layout
+    mid, half, vel, acc, _ = compiled.scale
+    for fixed in spec.fixed:
+        node = int(first[fixed.phase] if fixed.at == "start" else first[fixed.phase + 1])
+        for block, value, scale, shift in (
+            (0, fixed.q, half, mid),
+            (1, fixed.qd, vel, 0.0),
+            (2, fixed.qdd, acc, 0.0),
+        ):
+            if value is None:
+                continue
+            tol = fixed.tolerance if block == 0 else 0.0
+            index = layout.x_index(node, block)
+            lbx[index] = (value - tol - shift) / scale
+            ubx[index] = (value + tol - shift) / scale
 
 
 def initial_point(
