@@ -43,7 +43,7 @@ def time_left() -> float:
     return getattr(_DEADLINE, "at", math.inf) - time.perf_counter()
 
 
-class _Stop(ca.Callback):  # type: ignore[misc]
+class _Stop(ca.Callback):
     """An NLP solver's iteration callback: nonzero (stop) once the thread's deadline passed."""
 
     def __init__(self, variables: int, constraints: int, parameters: int) -> None:

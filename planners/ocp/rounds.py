@@ -213,7 +213,7 @@ def torque_nodes(
     hot = np.unique(
         np.clip(np.searchsorted(knots, times[ratio > TORQUE_WATCH], "right") - 1, 0, len(knots) - 2)
     )
-    nodes = set()
+    nodes: set[int] = set()
     for k in hot.tolist():
         nodes.update((k, k + 1))
     existing = set(built.compiled.structure.torque_nodes)

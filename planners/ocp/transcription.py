@@ -207,7 +207,7 @@ class CompiledNLP:
         return self.warm_solver
 
 
-class FrozenOptions(tuple):  # type: ignore[type-arg]
+class FrozenOptions(tuple):
     """A solver option mapping as sorted ``(key, value)`` pairs, hashable for a Structure."""
 
     __slots__ = ()
