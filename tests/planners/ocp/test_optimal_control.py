@@ -3,17 +3,15 @@
 from __future__ import annotations
 
 import dataclasses
-import pickle
 import re
 import time
 
-import casadi as ca
 import numpy as np
 import pytest
 from conftest import get_robot
 
+import optraj.planners.ocp.formulation as formulation
 import optraj.planners.ocp.optimal_control as optimal_control
-import optraj.planners.ocp.transcription as transcription
 from optraj import problems, robots
 from optraj.errors import (
     CONTACT_CHOICE,
@@ -21,32 +19,22 @@ from optraj.errors import (
     InfeasibleError,
     InvalidInputError,
     MissingDependencyError,
-    PathJumpError,
     SolverError,
     UnknownNameError,
-    UnreachableError,
 )
 from optraj.planners import Quintic, Trajectory, check, lower_bound
 from optraj.planners.ocp.optimal_control import (
     BUDGET_SPENT,
     INFEASIBLE_STATUSES,
     POSITION_SHRINKS,
-    SHRINK_EXTRA,
     OptimalControl,
     WarmStart,
-    _constraint_duals,
-    _diagnosis,
-    _integrable,
-    _near_the_limit,
-    _position_excess,
-    _shrunk,
-    _tightened,
-    strike_caps,
 )
-from optraj.planners.ocp.transcription import WARM_ITERATIONS, compile_nlp
-from optraj.planners.strike.contact import BRANCH_SPREAD, ContactChoice
-from optraj.planners.strike.window_check import QUANTITIES, WindowRatio
-from optraj.robots import SymbolicModel
+from optraj.planners.ocp.refinement import (
+    position_excess,
+)
+from optraj.planners.strike.contact import BRANCH_SPREAD
+from optraj.planners.strike.window_check import QUANTITIES
 
 SAWYER_SHOT = {"x": (0.65, 0.85), "y": (-0.05, 0.3), "z": (-0.1, 0.0), "heading": (-20.0, 20.0)}
 
@@ -109,56 +97,6 @@ def test_a_contact_on_a_position_limit_plans_although_its_guess_line_jumps():
     report = check(traj, problem)
     assert report.ok, report.summary()
     assert report["position"].joint == "right_j4"  # on its limit, within the tolerance
-
-
-@pytest.mark.parametrize(
-    "raised", [PathJumpError(0.1, "right_j3", 0.2, 0.1), None], ids=["jumps", "unreachable"]
-)
-def test_a_pool_guess_without_its_line_starts_from_the_contact_choice(monkeypatch, raised):
-    # When the guess's line cannot be followed (it jumps, or a pose with the contact's roll
-    # has no solution), the guess joins the choice's entry, contact and exit by quintics.
-    problem = problems.sawyer_pool_shot(1.0)
-    failure = raised or UnreachableError(
-        "no IK", position_error=0.1, orientation_error=0.0, attempts=1
-    )
-
-    def refused(*args, **kwargs):
-        raise failure
-
-    monkeypatch.setattr("optraj.planners.ocp.optimal_control.strike_line", refused)
-    traj = OptimalControl("time").plan(problem)
-    report = check(traj, problem)
-    assert report.ok, report.summary()
-
-
-def test_strike_caps_bound_the_strike_nodes_only():
-    assert strike_caps(0.9, 0.999) == (0.999, 0.999)
-    velocity, acceleration = strike_caps(0.01, 0.999)
-    assert velocity == pytest.approx(3.0 * 0.01) and acceleration == pytest.approx(10.0 * 1e-4)
-    planner = OptimalControl("time")
-    keep = 1.0 - planner.margin
-    built = planner.build(problems.sawyer_pool_shot(0.03))
-    layout, ratio = built.compiled.layout, built.contact.ratio
-    assert 0.0 < ratio < 0.05  # 0.03 m/s needs a few percent of the velocity limits
-    first = built.grids[0].intervals  # the approach's last node starts the strike
-    last = first + built.grids[1].intervals
-    for node in (first - 1, *range(first, last + 1), last + 1):
-        inside = first <= node <= last
-        for block, cap in ((1, 3.0 * ratio), (2, 10.0 * ratio**2)):
-            index = layout.x_index(node, block)
-            expected = cap if inside else keep
-            assert built.ubx[index] == pytest.approx(np.full(7, expected), rel=1e-12)
-            assert built.lbx[index] == pytest.approx(np.full(7, -expected), rel=1e-12)
-
-
-@pytest.mark.parametrize(
-    ("ratio", "keep", "name"),
-    [(-0.1, 1.0, "ratio"), (float("nan"), 1.0, "ratio"), (0.5, 0.0, "keep"), (0.5, 1.5, "keep")],
-)
-def test_strike_caps_name_bad_input(ratio, keep, name):
-    with pytest.raises(InvalidInputError) as info:
-        strike_caps(ratio, keep)
-    assert info.value.name == name
 
 
 def test_the_contact_choice_keeps_the_planners_margin():
@@ -225,84 +163,6 @@ def test_a_strike_whose_window_needs_more_than_the_limits_is_refused_with_the_wi
     # The finding is marked as the window check's, with the slower speed it names.
     assert error.found_by == WINDOW_CHECK
     assert error.max_speed == pytest.approx(slower, rel=1e-3)
-
-
-def _tight_choice(max_speed: float) -> ContactChoice:
-    """A Sawyer contact choice at 0.97 of right_j1's velocity limit."""
-    return ContactChoice(
-        q=np.zeros(7),
-        qd=np.zeros(7),
-        ratio=0.97,
-        max_speed=max_speed,
-        binding_joint="right_j1",
-        candidates=1,
-    )
-
-
-def _window(ratio: float, status: str = "Solve_Succeeded") -> WindowRatio:
-    return WindowRatio(
-        ratio=ratio,
-        velocity=ratio,
-        acceleration=0.5,
-        jerk=0.25,
-        effort=0.3,
-        limit="velocity",
-        joint="right_j3",
-        required=1.957 * ratio,
-        allowed=1.957,
-        unit="rad/s",
-        max_speed=1.5 / ratio,
-        status=status,
-        iterations=20,
-    )
-
-
-def test_a_strike_is_refused_only_when_every_window_tried_needs_more_than_the_limits():
-    problem = problems.sawyer_pool_shot(1.5)
-    planner = OptimalControl("time")
-    failure = SolverError("ipopt", "Infeasible_Problem_Detected", iterations=7, detail="x")
-    tight = _tight_choice(1.55)
-    refused = planner._strike_error(
-        failure, problem, [tight, tight], [_window(1.08), _window(1.03)]
-    )
-    assert isinstance(refused, InfeasibleError)
-    assert (refused.limit, refused.joint) == ("velocity", "right_j3")
-    assert refused.required == pytest.approx(1.957 * 1.03)  # the least window, not the first
-    assert "each of the 2 contact configurations tried" in str(refused)
-    # A window within the limits, one not checked, one not converged, or another failure
-    # than infeasibility: the solver's error (with the velocity hint where it applies).
-    for windows in (
-        [_window(1.08), _window(0.99)],
-        [_window(1.08), None],
-        [_window(1.08), _window(1.2, "Maximum_Iterations_Exceeded")],
-        [],
-    ):
-        kept = planner._strike_error(failure, problem, [tight, tight], windows)
-        assert isinstance(kept, SolverError) and "97.0 % of a velocity limit" in kept.detail
-    missed = SolverError("ipopt", "Maximum_Iterations_Exceeded")
-    assert planner._strike_error(missed, problem, [tight], [_window(1.08)]) is missed
-
-
-def test_the_tight_ratio_hint_comes_only_with_infeasibility_and_no_room():
-    problem = problems.sawyer_pool_shot(1.0)
-    failure = SolverError("ipopt", "Infeasible_Problem_Detected", iterations=7, detail="x")
-    tight = _tight_choice(1.03)
-    tighter = dataclasses.replace(tight, ratio=0.95, max_speed=1.05, binding_joint="right_j3")
-    hinted = _near_the_limit(failure, problem, [tight, tighter])
-    assert (hinted.solver, hinted.status, hinted.iterations) == ("ipopt", failure.status, 7)
-    assert hinted.detail.startswith("x; at 1 m/s the 2 contact configurations tried need at ")
-    assert "least 95.0 % of a velocity limit (right_j3 binds; the best" in hinted.detail
-    assert "up to 1.05 m/s" in hinted.detail  # the best choice's, not the first's
-    assert "x; at 1 m/s the contact configuration tried needs at least 97.0 %" in (
-        _near_the_limit(failure, problem, [tight]).detail
-    )
-    # Room to spare at one contact (the threshold itself counts as room), no contact, or
-    # another failure than infeasibility: the error as it was.
-    at_threshold = dataclasses.replace(tight, ratio=0.9)
-    assert _near_the_limit(failure, problem, [tight, at_threshold]) is failure
-    assert _near_the_limit(failure, problem, []) is failure
-    missed = SolverError("ipopt", "strike line not met between nodes", detail="faster")
-    assert _near_the_limit(missed, problem, [tight]) is missed
 
 
 def _paddle_problems(count: int, seed: int = 3):
@@ -465,20 +325,6 @@ def test_a_strike_that_passes_a_position_limit_between_nodes_is_solved_again_wit
     assert traj.metadata["warm_started"] is False  # the first solve was cold
 
 
-def test_shrunk_moves_both_node_bounds_of_a_piece_in_by_twice_its_excess():
-    limits = get_robot("paddle4").limits
-    excess = np.zeros((2, 2, limits.n))  # 2 pieces; (below lower, above upper) per joint
-    excess[1, 1, 2] = 0.01  # piece 1 passes joint 2's upper limit
-    moved = _shrunk(None, excess, limits)
-    expected = np.zeros((3, 2, limits.n))
-    expected[1:, 1, 2] = 0.02 + SHRINK_EXTRA
-    np.testing.assert_allclose(moved, expected)
-    again = _shrunk(moved, excess, limits)  # still passing: moved in further
-    np.testing.assert_allclose(again[1:, 1, 2], 2 * (0.02 + SHRINK_EXTRA))
-    huge = _shrunk(None, excess * 1e3, limits)  # capped at a quarter of the range
-    np.testing.assert_allclose(huge[1:, 1, 2], 0.25 * (limits.upper[2] - limits.lower[2]))
-
-
 def test_positions_between_nodes_get_rows_when_moving_node_bounds_cannot_help():
     # A via point with a joint at its upper limit: bounded at the nodes only, the fastest
     # motion passes the via node still moving and leaves the range just after it. The via
@@ -493,7 +339,7 @@ def test_positions_between_nodes_get_rows_when_moving_node_bounds_cannot_help():
     planner = OptimalControl("time")
     first = planner.solve(planner.build(problem))  # the first round: no position rows
     assert not check(first, problem, quantities=("position",))["position"].ok
-    assert _position_excess(first, limits).any()
+    assert position_excess(first, limits).any()
     traj = planner.plan(problem)
     assert traj.metadata["position_rows"] and traj.metadata["rounds"] == 2 + POSITION_SHRINKS
     report = check(traj, problem, quantities=("position", "velocity", "acceleration", "jerk"))
@@ -501,25 +347,6 @@ def test_positions_between_nodes_get_rows_when_moving_node_bounds_cannot_help():
     always = OptimalControl("time", position_rows=True).plan(problem)
     assert always.metadata["rounds"] == 1
     assert always.duration == pytest.approx(traj.duration, rel=5e-3)
-
-
-def test_position_excess_finds_the_extremes_between_the_knots():
-    rng = np.random.default_rng(11)
-    limits = get_robot("paddle4").limits
-    middle = 0.5 * (limits.lower + limits.upper)
-    half = 0.5 * (limits.upper - limits.lower)
-    knots = np.concatenate([[0.0], np.cumsum(rng.uniform(0.05, 0.3, 3))])
-    outcomes = []
-    for _ in range(60):
-        # Three cubic pieces through random points inside the range at random velocities.
-        points = middle + half * rng.uniform(-0.98, 0.98, (4, limits.n))
-        slopes = rng.uniform(-1.0, 1.0, (4, limits.n)) * 2.0 * half / 0.1
-        traj = Trajectory.from_hermite(knots, points, slopes)
-        dense = traj.sample(np.linspace(0.0, knots[-1], 20001)).q
-        inside = bool(np.all(dense >= limits.lower) and np.all(dense <= limits.upper))
-        assert (not _position_excess(traj, limits).any()) == inside
-        outcomes.append(inside)
-    assert 10 <= sum(outcomes) <= 50  # both verdicts are exercised
 
 
 @pytest.mark.parametrize("rows", ["linear", "rnea"])
@@ -564,50 +391,6 @@ def test_a_pool_strike_with_a_weak_shoulder_keeps_its_torque_limit():
     assert traj.metadata["position_rows"] is False
 
 
-def test_tightened_raises_both_ends_of_an_interval_by_its_excess():
-    margins = np.full((3, 2), 0.01)
-    ratio = np.zeros((9, 2))  # 2 intervals, 4 points each, and the last node
-    ratio[2, 1] = -1.02  # inside interval 0, joint 1: 0.025 over 1 - 0.01 / 2
-    ratio[8, 0] = 0.99  # last node, joint 0: within 1 - 0.005
-    raised = _tightened(margins, ratio)
-    np.testing.assert_allclose(raised[:, 0], 0.01)
-    np.testing.assert_allclose(raised[:, 1], [0.01 + 0.025 + 0.005] * 2 + [0.01])
-    ratio[8, 0] = 5.0
-    assert _tightened(margins, ratio).max() == 0.5  # capped
-
-
-def test_constraint_duals_carry_over_where_only_the_torque_rows_differ():
-    robot = get_robot("youbot")
-    problem = problems.PointToPoint(robot, robot.home, robot.home + 0.3)
-    saved = OptimalControl("time", torque=False).plan(problem).metadata["warm_start"]
-    n, model = robot.dof, SymbolicModel(robot)
-    rng = np.random.default_rng(5)
-
-    def warm(structure):
-        compiled = compile_nlp(structure, model)
-        lam_g = rng.standard_normal(compiled.lbg.size)
-        return compiled, WarmStart(structure, saved.w, saved.lam_x, lam_g)
-
-    base = saved.lam_g.size
-    rnea, start = warm(dataclasses.replace(saved.structure, torque_nodes=(1, 2)))
-    linear, _ = warm(
-        dataclasses.replace(saved.structure, torque_nodes=(0, 2, 3), torque_rows="linear")
-    )
-    lam = _constraint_duals(start, linear)
-    np.testing.assert_array_equal(lam[:base], start.lam_g[:base])
-    np.testing.assert_array_equal(lam[base : base + n], 0.0)  # node 0: new rows start at zero
-    np.testing.assert_array_equal(lam[base + n : base + 2 * n], start.lam_g[base + n :])  # node 2
-    np.testing.assert_array_equal(lam[base + 2 * n :], 0.0)
-    np.testing.assert_array_equal(_constraint_duals(start, rnea), start.lam_g)
-    other_grid = compile_nlp(
-        dataclasses.replace(
-            saved.structure, intervals=tuple(i + 1 for i in saved.structure.intervals)
-        ),
-        model,
-    )
-    assert _constraint_duals(start, other_grid) is None
-
-
 def test_a_torque_limit_gravity_alone_breaks_is_infeasible():
     # The goal at rest needs its gravity torques, twice the limits: refused before any solve,
     # with the joint and the factor on the effort limits a plan needs at least.
@@ -640,7 +423,7 @@ def test_a_strike_whose_start_gravity_overloads_is_refused_before_any_search(mon
         raise AssertionError("the contact search ran")
 
     monkeypatch.setattr(optimal_control, "contact_choices", searched)
-    monkeypatch.setattr(optimal_control, "choose_contact", searched)
+    monkeypatch.setattr(formulation, "choose_contact", searched)
     problem = _overloaded_pool_shot()
     gravity = np.abs(problem.robot.gravity_torque(problem.q_start))
     with pytest.raises(
@@ -697,66 +480,7 @@ def test_a_plan_past_its_time_budget_raises_a_solver_error_that_names_it():
     assert info.value.status == BUDGET_SPENT
 
 
-def test_a_budget_spent_inside_a_solve_stops_it_and_no_contact_retry_swallows_it(monkeypatch):
-    # The planner's deadline check lets the first solve start; the solver's iteration callback
-    # then finds the deadline past and stops it at its first iteration.
-    checks = iter([1.0, 1.0])
-    monkeypatch.setattr(optimal_control, "time_left", lambda: next(checks, -1.0))
-    monkeypatch.setattr(transcription, "time_left", lambda: -1.0)
-    problem = next(_shots(1, speed=1.0))
-    with pytest.raises(SolverError, match="User_Requested_Stop") as info:
-        OptimalControl(contact_retries=2).plan(problem)
-    assert info.value.status == BUDGET_SPENT and info.value.iterations == 0
-
-
-def test_a_failed_solve_names_its_most_violated_row_by_joint_and_place():
-    move = _paddle_move()
-    built = OptimalControl().build(move)
-    layout = built.compiled.layout
-    w = built.x0.copy()
-    jerk = w[layout.u_index(2)]  # a view: interval 2's scaled jerks
-    joint = int(np.argmin(np.abs(jerk)))
-    jerk[joint] += 0.05  # breaks interval 2's dynamics rows of that joint only
-    text = _diagnosis(built, w)
-    name = move.limits.names[joint]
-    pattern = rf"most violated: dynamics \(the \w+ step\) of {name} at interval 2 of the move phase"
-    assert re.match(pattern, text), text
-
-
-def test_a_fixed_duration_shorter_than_the_limits_allow_is_infeasible():
-    robot = get_robot("sawyer")
-    q0 = robot.home
-    q1 = q0 + 0.5 * (robot.limits.upper - q0)
-    problem = problems.PointToPoint(robot, q0, q1, duration=0.2)
-    with pytest.raises(InfeasibleError, match="needs at least"):
-        OptimalControl().plan(problem)
-
-
 # ------------------------------------------------------------- build, solve, warm starts
-
-
-def test_build_and_solve_apart():
-    problem = next(_shots(1, speed=1.0))
-    planner = OptimalControl("time")
-    built = planner.build(problem)
-    names = {name for name, _, _ in built.compiled.groups}
-    assert {"dynamics", "strike position", "strike axis", "strike speed"} <= names
-    assert built.variables == built.compiled.w.numel() and built.constraints > 0
-    assert np.all(built.lbx <= built.x0) and np.all(built.x0 <= built.ubx)
-    assert built.contact is not None and built.contact.ratio <= 1.0
-    # The guess breaks some rows: each group reports the largest excess of its own rows.
-    g = np.asarray(built.compiled.constraint_values(built.x0, built.p)).reshape(-1)
-    excess = np.maximum(built.compiled.lbg - g, g - built.compiled.ubg)
-    found = built.violations(built.x0)
-    assert set(found) == names | {"bounds"} and found["bounds"] == 0.0
-    for name in names:
-        rows = [excess[a:b] for group, a, b in built.compiled.groups if group == name]
-        assert found[name] == max(0.0, float(np.concatenate(rows).max()))
-    assert found["dynamics"] > 1e-3
-    traj = planner.solve(built)
-    assert check(traj, problem).ok
-    for key in ("solver_status", "iterations", "nlp_time", "constraint_violation", "objective"):
-        assert key in traj.metadata
 
 
 def test_solve_statistics_split_the_plan_time():
@@ -772,27 +496,6 @@ def test_solve_statistics_split_the_plan_time():
     youbot = get_robot("youbot")
     move = problems.PointToPoint(youbot, youbot.home, youbot.home + 0.2)
     assert OptimalControl("time").plan(move).metadata["contact_time"] == 0.0
-
-
-def test_a_sampled_guess_is_fitted_to_the_dynamics_rows():
-    planner = OptimalControl("time")
-    built = planner.build(next(_shots(1, speed=1.0)))
-    layout = built.compiled.layout
-    kept = [int(node) for node in layout.first_node]
-    rng = np.random.default_rng(5)
-    noisy = built.x0.copy()
-    noisy[layout.x_start :] += 0.05 * rng.standard_normal(noisy.size - layout.x_start)
-    fitted = _integrable(noisy, layout, built.compiled.scale, kept)
-    assert built.violations(noisy)["dynamics"] > 1e-2
-    assert built.violations(fitted)["dynamics"] < 1e-9
-    np.testing.assert_array_equal(fitted[: layout.K], noisy[: layout.K])  # interval lengths
-    # The phase ends keep their sampled states more closely than the other nodes.
-    moved = np.abs(layout.split(fitted)[1] - layout.split(noisy)[1]).max(axis=1)
-    assert moved[kept].mean() < 0.5 * np.delete(moved, kept).mean()
-    # A solution already meets the rows: the fit leaves it (up to the small jerk weight).
-    solved = planner.solve(built).metadata["warm_start"].w
-    again = _integrable(solved, layout, built.compiled.scale, kept)
-    assert np.abs(again - solved).max() < 1e-4
 
 
 def test_warm_start_from_a_previous_solution_and_from_another_planner():
@@ -880,33 +583,6 @@ def test_a_warm_start_through_another_contact_branch_is_not_lent():
     assert check(traj, moved).ok
 
 
-def test_a_warm_solve_that_does_not_converge_is_redone_cold():
-    # Strike benchmark shot 27 of seed 7: the search keeps the branch, but the previous
-    # multipliers lead IPOPT through 508 iterations; capped, the same primal point solves cold.
-    first, moved = _moved_2_cm(
-        (0.7210827554047025, 0.13168447027359653, -0.023475261672147738), 16.367172559622002
-    )
-    planner = OptimalControl("time")
-    traj = planner.plan(moved, warm_start=planner.plan(first))
-    meta = traj.metadata
-    assert meta["warm_started"] is True and meta["warm_abandoned"] is True
-    assert WARM_ITERATIONS < meta["iterations"] < 2 * WARM_ITERATIONS + 30
-    assert check(traj, moved).ok
-    # The iterations and times count the abandoned solve (the cold one alone takes 59).
-    assert meta["nlp_time"] > meta["evaluation_time"] > 0.0
-
-
-def test_planner_pickles_without_its_compiled_solvers():
-    planner = OptimalControl("time")
-    problem = problems.PointToPoint(
-        get_robot("youbot"), get_robot("youbot").home, get_robot("youbot").home + 0.2
-    )
-    first = planner.plan(problem)
-    copy = pickle.loads(pickle.dumps(planner))
-    again = copy.plan(problem)
-    np.testing.assert_allclose(again.breakpoints, first.breakpoints, atol=1e-9)
-
-
 def test_a_failed_solve_is_retried_from_the_next_contact_branch():
     # Shot 42 of benchmarks/strike.py: IPOPT finds the problem infeasible from the chosen
     # contact configuration, whose window the window check finds past the limits too, and
@@ -956,25 +632,6 @@ def _paddle_move() -> problems.PointToPoint:
     lower, upper = robot.limits.lower, robot.limits.upper
     middle = 0.5 * (lower + upper)
     return problems.PointToPoint(robot, middle, middle + 0.2 * (upper - lower))
-
-
-def test_a_solver_that_raises_gives_a_solver_error_with_its_reason():
-    # CasADi's error_on_fail turns IPOPT's iteration cap into an exception.
-    planner = OptimalControl("time", solver_options={"error_on_fail": True, "ipopt.max_iter": 2})
-    with pytest.raises(SolverError, match=r"Maximum_Iterations_Exceeded.*nlpsol process") as info:
-        planner.plan(_paddle_move())
-    assert info.value.iterations == 2 and "Function::call" not in str(info.value)
-
-
-@pytest.mark.skipif(not ca.has_nlpsol("sqpmethod"), reason="CasADi without sqpmethod")
-def test_sqpmethod_plans_a_small_move_with_nested_solver_options():
-    problem = _paddle_move()
-    options = {"qpsol_options": {"printLevel": "none", "enableRegularisation": True}}
-    traj = OptimalControl("time", solver="sqpmethod", solver_options=options).plan(problem)
-    report = check(traj, problem)
-    assert report.ok, report.summary()
-    reference = OptimalControl("time").plan(problem)
-    assert traj.duration == pytest.approx(reference.duration, rel=1e-3)
 
 
 @pytest.mark.parametrize(
@@ -1040,93 +697,6 @@ def test_bad_plan_inputs_are_named_before_any_solve():
 def test_an_unsupported_problem_is_named():
     with pytest.raises(InvalidInputError, match="PickAndPlace"):
         OptimalControl().plan(problems.youbot_two_blocks())
-
-
-def test_fixed_durations_below_a_joints_bound_are_infeasible_before_any_solve():
-    paddle = get_robot("paddle4")
-    rest = problems.PaddleStrike(paddle, ball=(1.1, 0.8, 0.7), contact_time=0.6)
-    bound = lower_bound(problems.PointToPoint(paddle, rest.q_start, rest.q_contact))
-    with pytest.raises(InfeasibleError, match=r"contact_time is 0\.6 s") as info:
-        OptimalControl().plan(rest)
-    assert info.value.limit == "duration" and info.value.allowed == 0.6
-    assert info.value.required == pytest.approx(bound, rel=1e-9)
-    # (At 0.5 m/s this contact, J3 1.5 mm from its limit, has too little room: the contact
-    # choice refuses that first.)
-    moving = dataclasses.replace(rest, speed=0.2, contact_time=0.05)
-    with pytest.raises(InfeasibleError, match="within its velocity limit") as info:
-        OptimalControl().plan(moving)
-    spans = np.abs(rest.q_contact - rest.q_start) / paddle.limits.velocity
-    assert info.value.required == pytest.approx(spans.max(), rel=1e-12)
-    assert info.value.joint == paddle.limits.names[int(np.argmax(spans))]
-    sawyer = get_robot("sawyer")
-    points = np.array([sawyer.home, sawyer.home + 0.5, sawyer.home - 0.3])
-    waypoints = problems.Waypoints(sawyer, points, segment_durations=(2.0, 0.5))
-    with pytest.raises(InfeasibleError, match=r"segment 2 .* segment_durations\[1\] is 0\.5 s"):
-        OptimalControl().plan(waypoints)
-    # A via point may be passed within its tolerance: 1 rad at right_j0's 1.74 rad/s needs
-    # 0.575 s, but 0.55 rad (1 - 0.45) fits in 0.5 s, and the plan passes the checker.
-    step = np.eye(7)[0]
-    points = np.array([sawyer.home, sawyer.home + step, sawyer.home + 2 * step])
-    loose = problems.Waypoints(sawyer, points, segment_durations=(0.5, 1.5), via_tolerance=0.45)
-    traj = OptimalControl().plan(loose)
-    report = check(traj, loose, quantities=("position", "velocity", "acceleration", "jerk"))
-    assert report.ok, report.summary()
-
-
-def test_a_strike_that_leaves_its_schedule_is_solved_again_on_a_finer_grid(monkeypatch):
-    problem = problems.sawyer_pool_shot()
-    plain = OptimalControl(contact_retries=0).plan(problem)
-    real = OptimalControl._strike_misses
-    calls = []
-
-    def first_misses(self, traj, problem, spec):
-        calls.append(traj)
-        return (
-            [("speed error", 0.2, 0.05, "%")]
-            if len(calls) == 1
-            else real(self, traj, problem, spec)
-        )
-
-    monkeypatch.setattr(OptimalControl, "_strike_misses", first_misses)
-    traj = OptimalControl(contact_retries=0).plan(problem)
-    assert traj.metadata["rounds"] == 2 and len(calls) == 2
-    assert traj.metadata["intervals"]["strike"] == 2 * plain.metadata["intervals"]["strike"]
-    assert check(traj, problem).ok
-
-
-def test_strike_misses_are_measured_in_the_units_they_name():
-    problem = problems.sawyer_pool_shot()
-    planner = OptimalControl(contact_retries=0)
-    traj = planner.plan(problem)
-    spec = planner._spec(problem)
-    assert planner._strike_misses(traj, problem, spec) == []
-    tight = dataclasses.replace(
-        problem, position_tolerance=1e-15, speed_tolerance=1e-15, angle_tolerance=1e-15
-    )
-    misses = {
-        name: (value, allowed, unit)
-        for name, value, allowed, unit in planner._strike_misses(traj, tight, spec)
-    }
-    assert set(misses) == {"distance to the schedule", "cue axis angle", "speed error"}
-    assert misses["distance to the schedule"][1:] == (pytest.approx(0.5e-12), "mm")
-    assert misses["cue axis angle"][1:] == (pytest.approx(0.5 * np.degrees(1e-15)), "deg")
-    assert misses["speed error"][1:] == (pytest.approx(0.5e-13), "%")
-    # Within half of what the default problem allows, in those units: 0.01 mm, 0.01 deg, 0.1 %.
-    assert 0 < misses["distance to the schedule"][0] <= 0.5e-2
-    assert 0 < misses["cue axis angle"][0] <= 0.5e-2
-    assert 0 < misses["speed error"][0] <= 0.5e-1
-
-
-def test_a_strike_grid_that_cannot_be_refined_stops_and_names_the_miss(monkeypatch):
-    # Every solve misses the speed between nodes, and the first strike grid is already the
-    # finest allowed: one solve, then an error saying what missed, by how much.
-    miss = [("speed error", 0.2, 0.05, "%")]
-    monkeypatch.setattr(OptimalControl, "_strike_misses", lambda *args: miss)
-    monkeypatch.setattr("optraj.planners.ocp.optimal_control.MAX_STRIKE_INTERVALS", 1)
-    planner = OptimalControl(contact_retries=0)
-    with pytest.raises(SolverError, match=r"after 1 rounds: speed error 0\.2 %") as info:
-        planner.plan(problems.sawyer_pool_shot())
-    assert info.value.status == "strike line not met between nodes"
 
 
 def test_one_planner_plans_two_models_of_sawyer_each_with_its_own_kinematics():

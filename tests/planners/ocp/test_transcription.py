@@ -7,21 +7,14 @@ import numpy as np
 import pytest
 from conftest import get_robot
 
-from optraj.errors import InvalidInputError, UnknownNameError
 from optraj.planners.ocp.transcription import (
-    PARAMETERS,
     FrozenOptions,
-    Layout,
     Structure,
     compile_nlp,
-    deadline,
     freeze_options,
     parameter_vector,
     structure_limits,
     thaw_options,
-    time_left,
-    torque_linearization,
-    torque_parameter_count,
 )
 from optraj.robots import SymbolicModel
 
@@ -78,54 +71,6 @@ def test_exact_integration_satisfies_the_dynamics_rows():
     assert np.abs(_rows(compiled, w, "dynamics")).max() > 1e-3
 
 
-def test_bernstein_rows_bound_velocity_and_position_between_nodes():
-    # The rows are Bernstein coefficients: the polynomial stays within their hull.
-    _, compiled = _compiled()
-    layout = compiled.layout
-    mid, half, vel, acc, jerk = compiled.scale
-    rng = np.random.default_rng(1)
-    for _ in range(5):
-        w = _exact_motion(compiled, rng)
-        h, states, jerks = layout.split(w)
-        n = layout.n
-        speed_rows = _rows(compiled, w, "velocity between nodes").reshape(layout.K, n)
-        position_rows = _rows(compiled, w, "position between nodes").reshape(layout.K, 2, n)
-        for k in range(layout.K):
-            tau = np.linspace(0.0, h[k], 50)[:, None]
-            q0 = mid + half * states[k, :n]
-            v0, a0 = vel * states[k, n : 2 * n], acc * states[k, 2 * n :]
-            u = jerk * jerks[k]
-            v = v0 + a0 * tau + u * tau**2 / 2
-            q = q0 + v0 * tau + a0 * tau**2 / 2 + u * tau**3 / 6
-            v_hull = np.stack([v[0], vel * speed_rows[k], v[-1]])
-            assert np.all(v <= v_hull.max(axis=0) + 1e-12)
-            assert np.all(v >= v_hull.min(axis=0) - 1e-12)
-            q_hull = np.stack([q[0], *(mid + half * position_rows[k]), q[-1]])
-            assert np.all(q <= q_hull.max(axis=0) + 1e-12)
-            assert np.all(q >= q_hull.min(axis=0) - 1e-12)
-
-
-def test_layout_splits_what_it_indexes():
-    layout = Layout(3, (2, 4))
-    w = np.arange(layout.size, dtype=float)
-    h, states, jerks = layout.split(w)
-    assert h.shape == (6,) and states.shape == (7, 9) and jerks.shape == (6, 3)
-    np.testing.assert_array_equal(states[5, 3:6], w[layout.x_index(5, 1)])
-    np.testing.assert_array_equal(jerks[4], w[layout.u_index(4)])
-    np.testing.assert_array_equal(layout.first_node, [0, 2, 6])
-
-
-def test_parameter_vector_names_what_is_wrong():
-    assert parameter_vector().size == sum(size for _, size in PARAMETERS)
-    with pytest.raises(InvalidInputError, match="speed"):
-        parameter_vector(speed=[1.0, 2.0])
-    with pytest.raises(UnknownNameError, match="unknown NLP parameter 'velocity'"):
-        parameter_vector(velocity=1.0)
-    for bad in (True, "1.0", np.nan):  # no bool, string or NaN posing as a speed
-        with pytest.raises(InvalidInputError, match="speed"):
-            parameter_vector(speed=bad)
-
-
 def test_rows_are_labelled_with_their_joint_part_and_place():
     _, compiled = _compiled()
     n, layout = compiled.layout.n, compiled.layout
@@ -135,66 +80,6 @@ def test_rows_are_labelled_with_their_joint_part_and_place():
     assert compiled.row_part[rows].tolist() == ([0] * n + [1] * n + [2] * n) * layout.K
     assert compiled.row_at[rows].tolist() == np.repeat(np.arange(layout.K), 3 * n).tolist()
     assert compiled.row_joint.size == compiled.lbg.size == compiled.row_at.size
-
-
-def test_a_solve_past_its_deadline_is_stopped_by_the_iteration_callback():
-    _, compiled = _compiled(options=(("ipopt.max_iter", 3), ("ipopt.print_level", 0)))
-    rng = np.random.default_rng(3)
-    w = _exact_motion(compiled, rng)
-    args = {"x0": w, "p": parameter_vector(), "lbg": compiled.lbg, "ubg": compiled.ubg}
-    assert time_left() == np.inf
-    with deadline(-1.0):  # already past
-        assert time_left() < 0.0
-        compiled.solver(**args)
-    stats = compiled.solver.stats()
-    assert stats["return_status"] == "User_Requested_Stop" and stats["iter_count"] == 0
-    with deadline(3600.0), deadline(7200.0):  # the nearer deadline holds
-        assert 3500.0 < time_left() <= 3600.0
-        compiled.solver(**args)
-    assert compiled.solver.stats()["return_status"] != "User_Requested_Stop"
-    assert time_left() == np.inf
-
-
-def _node_torques(robot, compiled, w, nodes):
-    """Pinocchio's inverse dynamics at the nodes of ``w``, over the effort limits."""
-    mid, half, vel, acc, _ = compiled.scale
-    _, states, _ = compiled.layout.split(w)
-    n = compiled.layout.n
-    x = states[list(nodes)]
-    tau = robot.inverse_dynamics(mid + half * x[:, :n], vel * x[:, n : 2 * n], acc * x[:, 2 * n :])
-    return tau / robot.limits.effort
-
-
-def test_linear_torque_rows_are_the_rnea_to_first_order():
-    nodes = (0, 2, 5, 7)
-    robot, compiled = _compiled(torque_nodes=nodes, torque_rows="linear")
-    layout = compiled.layout
-    margin = 0.05
-    rng = np.random.default_rng(3)
-    w = _exact_motion(compiled, rng)
-    w[layout.x_start : layout.u_start] = rng.uniform(-0.8, 0.8, layout.u_start - layout.x_start)
-    block = torque_linearization(compiled, w, margin)
-    assert block.size == torque_parameter_count(compiled.structure) == len(nodes) * (5 + 3 * 25)
-    p = np.concatenate([parameter_vector(), block])
-
-    def rows(x):
-        g = np.asarray(compiled.constraint_values(x, p)).reshape(-1)
-        return np.concatenate([g[a:b] for name, a, b in compiled.groups if name == "torque"])
-
-    exact = _node_torques(robot, compiled, w, nodes) / (1.0 - margin)
-    np.testing.assert_allclose(rows(w), exact.reshape(-1), atol=1e-12)
-    step = np.zeros_like(w)
-    step[layout.x_start : layout.u_start] = rng.standard_normal(layout.u_start - layout.x_start)
-    for eps in (1e-3, 1e-4):  # the error shrinks with the square of the step: the slope is right
-        moved = _node_torques(robot, compiled, w + eps * step, nodes) / (1.0 - margin)
-        error = np.abs(rows(w + eps * step) - moved.reshape(-1)).max()
-        change = np.abs(moved - exact).max()
-        assert error < 1e-3 * change, (eps, error, change)
-
-
-def test_unknown_torque_rows_are_named():
-    with pytest.raises(UnknownNameError, match="rnea"):
-        _compiled(torque_nodes=(1,), torque_rows="quadratic")
 
 
 def test_solver_options_frozen_for_a_structure_thaw_back_to_nested_mappings():

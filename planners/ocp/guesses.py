@@ -1,0 +1,110 @@
+"""First guesses: quintic moves and a pool strike's window along its strike line."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from optraj.errors import (
+    OptrajError,
+    PathJumpError,
+    UnreachableError,
+)
+from optraj.planners.ocp.options import (
+    LINE_SAMPLES,
+    LINE_SAMPLES_FINE,
+)
+from optraj.planners.profiles.time_scaling import quintic_coefficients
+from optraj.planners.strike.contact import (
+    ContactChoice,
+)
+from optraj.planners.strike.time_optimal_strike import strike_line
+from optraj.planners.time_optimal.ruckig_planner import state_to_state
+from optraj.planners.trajectory import Trajectory
+from optraj.problems import PoolStrike
+from optraj.robots import JointLimits
+
+FloatArray = NDArray[np.float64]
+
+
+# ---------------------------------------------------------------------------- problem specs
+
+
+def zero_vector(n: int) -> FloatArray:
+    """A zero vector of ``n`` entries."""
+    return np.zeros(n)
+
+
+def quintic_guess(
+    q0: FloatArray,
+    q1: FloatArray,
+    duration: float,
+    v1: FloatArray | None = None,
+    a1: FloatArray | None = None,
+) -> Trajectory:
+    """A one-piece quintic from ``q0`` at rest to ``q1`` (velocity ``v1``, acceleration ``a1``)."""
+    n = q0.size
+    coefficients = quintic_coefficients(
+        q0,
+        q1,
+        duration,
+        0.0,
+        zero_vector(n) if v1 is None else v1,
+        0.0,
+        zero_vector(n) if a1 is None else a1,
+    )
+    return Trajectory([0.0, duration], coefficients[None])
+
+
+def move_guess(
+    q0: FloatArray,
+    v0: FloatArray,
+    a0: FloatArray,
+    q1: FloatArray,
+    v1: FloatArray,
+    a1: FloatArray,
+    limits: JointLimits,
+    duration: float | None = None,
+) -> Trajectory:
+    """Ruckig's time-optimal move (limits not enforced: it is only a guess)."""
+    try:
+        return state_to_state(
+            q0, v0, a0, q1, v1, a1, limits, minimum_duration=duration, check_limits=False
+        )
+    except OptrajError:
+        span = np.max(np.abs(q1 - q0) / limits.velocity)
+        return quintic_guess(q0, q1, duration or max(2.0 * span, 0.2), v1, a1)
+
+
+def window_guess(problem: PoolStrike, choice: ContactChoice) -> Trajectory:
+    """The strike window of a pool strike's first guess, ``problem.window`` long.
+
+    The line followed by IK with the cue's roll kept from the contact configuration
+    (:func:`planners.strike.time_optimal_strike.strike_line`, :data:`LINE_SAMPLES` samples, then
+    :data:`LINE_SAMPLES_FINE` when the joints jump between them: a joint pinned on a
+    position limit makes the others turn fast). When the finer line still jumps, or a pose on
+    it has no solution with that roll, the guess joins the contact choice's own entry,
+    contact and exit configurations (which it reached with the roll free) by quintics at the
+    contact's joint velocity; the solver then puts the cue on the line.
+    """
+    failure: OptrajError | None = None
+    for samples in (LINE_SAMPLES, LINE_SAMPLES_FINE):
+        try:
+            return strike_line(problem, samples, q_contact=choice.q)
+        except (PathJumpError, UnreachableError) as error:
+            failure = error
+            if isinstance(error, UnreachableError):
+                break  # more samples reach no more poses
+    if choice.q_entry is None or choice.q_exit is None:
+        raise failure  # pragma: no cover - a pool choice always has its entry and exit
+    q = np.asarray(choice.q, dtype=float)
+    qd = np.asarray(choice.qd, dtype=float)
+    into = float(problem.contact_delay)
+    out = float(problem.window) - into
+    coefficients = np.stack(
+        [
+            quintic_coefficients(choice.q_entry, q, into, qd, qd),
+            quintic_coefficients(q, choice.q_exit, out, qd, qd),
+        ]
+    )
+    return Trajectory([0.0, into, into + out], coefficients)

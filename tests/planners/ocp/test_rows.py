@@ -1,0 +1,125 @@
+"""Tests of planners.ocp.rows."""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+from conftest import get_robot
+
+from optraj.planners.ocp.transcription import (
+    Structure,
+    compile_nlp,
+    parameter_vector,
+    structure_limits,
+    torque_linearization,
+    torque_parameter_count,
+)
+from optraj.robots import SymbolicModel
+
+
+def _compiled(intervals=(4, 3), **fields):
+    robot = get_robot("youbot")
+    structure = Structure(
+        robot=robot.name,
+        limits=structure_limits(robot.limits),
+        tool_frame=robot.tool_frame,
+        intervals=intervals,
+        free=(True, False),
+        **fields,
+    )
+    return robot, compile_nlp(structure, SymbolicModel(robot))
+
+
+def _rows(compiled, w, name):
+    g = ca.Function("g", [compiled.w, compiled.p], [compiled.g])(w, parameter_vector())
+    g = np.asarray(g).reshape(-1)
+    return np.concatenate([g[a:b] for group, a, b in compiled.groups if group == name])
+
+
+def _exact_motion(compiled, rng):
+    """A decision vector whose nodes follow the exact triple integrator (numpy, not CasADi)."""
+    layout = compiled.layout
+    mid, half, vel, acc, jerk = compiled.scale
+    n = layout.n
+    w = np.zeros(layout.size)
+    h = rng.uniform(0.02, 0.08, layout.K)
+    w[: layout.K] = h
+    q, v, a = mid + 0.2 * half * rng.uniform(-1, 1, n), 0.1 * vel * rng.uniform(-1, 1, n), 0 * vel
+    for k in range(layout.K + 1):
+        w[layout.x_index(k, 0)] = (q - mid) / half
+        w[layout.x_index(k, 1)] = v / vel
+        w[layout.x_index(k, 2)] = a / acc
+        if k == layout.K:
+            break
+        u = jerk * rng.uniform(-0.5, 0.5, n)
+        w[layout.u_index(k)] = u / jerk
+        q, v, a = (
+            q + h[k] * v + h[k] ** 2 / 2 * a + h[k] ** 3 / 6 * u,
+            v + h[k] * a + h[k] ** 2 / 2 * u,
+            a + h[k] * u,
+        )
+    return w
+
+
+def _node_torques(robot, compiled, w, nodes):
+    """Pinocchio's inverse dynamics at the nodes of ``w``, over the effort limits."""
+    mid, half, vel, acc, _ = compiled.scale
+    _, states, _ = compiled.layout.split(w)
+    n = compiled.layout.n
+    x = states[list(nodes)]
+    tau = robot.inverse_dynamics(mid + half * x[:, :n], vel * x[:, n : 2 * n], acc * x[:, 2 * n :])
+    return tau / robot.limits.effort
+
+
+def test_linear_torque_rows_are_the_rnea_to_first_order():
+    nodes = (0, 2, 5, 7)
+    robot, compiled = _compiled(torque_nodes=nodes, torque_rows="linear")
+    layout = compiled.layout
+    margin = 0.05
+    rng = np.random.default_rng(3)
+    w = _exact_motion(compiled, rng)
+    w[layout.x_start : layout.u_start] = rng.uniform(-0.8, 0.8, layout.u_start - layout.x_start)
+    block = torque_linearization(compiled, w, margin)
+    assert block.size == torque_parameter_count(compiled.structure) == len(nodes) * (5 + 3 * 25)
+    p = np.concatenate([parameter_vector(), block])
+
+    def rows(x):
+        g = np.asarray(compiled.constraint_values(x, p)).reshape(-1)
+        return np.concatenate([g[a:b] for name, a, b in compiled.groups if name == "torque"])
+
+    exact = _node_torques(robot, compiled, w, nodes) / (1.0 - margin)
+    np.testing.assert_allclose(rows(w), exact.reshape(-1), atol=1e-12)
+    step = np.zeros_like(w)
+    step[layout.x_start : layout.u_start] = rng.standard_normal(layout.u_start - layout.x_start)
+    for eps in (1e-3, 1e-4):  # the error shrinks with the square of the step: the slope is right
+        moved = _node_torques(robot, compiled, w + eps * step, nodes) / (1.0 - margin)
+        error = np.abs(rows(w + eps * step) - moved.reshape(-1)).max()
+        change = np.abs(moved - exact).max()
+        assert error < 1e-3 * change, (eps, error, change)
+
+
+def test_bernstein_rows_bound_velocity_and_position_between_nodes():
+    # The rows are Bernstein coefficients: the polynomial stays within their hull.
+    _, compiled = _compiled()
+    layout = compiled.layout
+    mid, half, vel, acc, jerk = compiled.scale
+    rng = np.random.default_rng(1)
+    for _ in range(5):
+        w = _exact_motion(compiled, rng)
+        h, states, jerks = layout.split(w)
+        n = layout.n
+        speed_rows = _rows(compiled, w, "velocity between nodes").reshape(layout.K, n)
+        position_rows = _rows(compiled, w, "position between nodes").reshape(layout.K, 2, n)
+        for k in range(layout.K):
+            tau = np.linspace(0.0, h[k], 50)[:, None]
+            q0 = mid + half * states[k, :n]
+            v0, a0 = vel * states[k, n : 2 * n], acc * states[k, 2 * n :]
+            u = jerk * jerks[k]
+            v = v0 + a0 * tau + u * tau**2 / 2
+            q = q0 + v0 * tau + a0 * tau**2 / 2 + u * tau**3 / 6
+            v_hull = np.stack([v[0], vel * speed_rows[k], v[-1]])
+            assert np.all(v <= v_hull.max(axis=0) + 1e-12)
+            assert np.all(v >= v_hull.min(axis=0) - 1e-12)
+            q_hull = np.stack([q[0], *(mid + half * position_rows[k]), q[-1]])
+            assert np.all(q <= q_hull.max(axis=0) + 1e-12)
+            assert np.all(q >= q_hull.min(axis=0) - 1e-12)
