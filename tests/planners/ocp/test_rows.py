@@ -2,63 +2,14 @@
 
 from __future__ import annotations
 
-import casadi as ca
 import numpy as np
-from conftest import get_robot
+from ocp_support import exact_motion, nlp_rows, youbot_nlp
 
 from optraj.planners.ocp.transcription import (
-    Structure,
-    compile_nlp,
     parameter_vector,
-    structure_limits,
     torque_linearization,
     torque_parameter_count,
 )
-from optraj.robots import SymbolicModel
-
-
-def _compiled(intervals=(4, 3), **fields):
-    robot = get_robot("youbot")
-    structure = Structure(
-        robot=robot.name,
-        limits=structure_limits(robot.limits),
-        tool_frame=robot.tool_frame,
-        intervals=intervals,
-        free=(True, False),
-        **fields,
-    )
-    return robot, compile_nlp(structure, SymbolicModel(robot))
-
-
-def _rows(compiled, w, name):
-    g = ca.Function("g", [compiled.w, compiled.p], [compiled.g])(w, parameter_vector())
-    g = np.asarray(g).reshape(-1)
-    return np.concatenate([g[a:b] for group, a, b in compiled.groups if group == name])
-
-
-def _exact_motion(compiled, rng):
-    """A decision vector whose nodes follow the exact triple integrator (numpy, not CasADi)."""
-    layout = compiled.layout
-    mid, half, vel, acc, jerk = compiled.scale
-    n = layout.n
-    w = np.zeros(layout.size)
-    h = rng.uniform(0.02, 0.08, layout.K)
-    w[: layout.K] = h
-    q, v, a = mid + 0.2 * half * rng.uniform(-1, 1, n), 0.1 * vel * rng.uniform(-1, 1, n), 0 * vel
-    for k in range(layout.K + 1):
-        w[layout.x_index(k, 0)] = (q - mid) / half
-        w[layout.x_index(k, 1)] = v / vel
-        w[layout.x_index(k, 2)] = a / acc
-        if k == layout.K:
-            break
-        u = jerk * rng.uniform(-0.5, 0.5, n)
-        w[layout.u_index(k)] = u / jerk
-        q, v, a = (
-            q + h[k] * v + h[k] ** 2 / 2 * a + h[k] ** 3 / 6 * u,
-            v + h[k] * a + h[k] ** 2 / 2 * u,
-            a + h[k] * u,
-        )
-    return w
 
 
 def _node_torques(robot, compiled, w, nodes):
@@ -73,11 +24,11 @@ def _node_torques(robot, compiled, w, nodes):
 
 def test_linear_torque_rows_are_the_rnea_to_first_order():
     nodes = (0, 2, 5, 7)
-    robot, compiled = _compiled(torque_nodes=nodes, torque_rows="linear")
+    robot, compiled = youbot_nlp(torque_nodes=nodes, torque_rows="linear")
     layout = compiled.layout
     margin = 0.05
     rng = np.random.default_rng(3)
-    w = _exact_motion(compiled, rng)
+    w = exact_motion(compiled, rng)
     w[layout.x_start : layout.u_start] = rng.uniform(-0.8, 0.8, layout.u_start - layout.x_start)
     block = torque_linearization(compiled, w, margin)
     assert block.size == torque_parameter_count(compiled.structure) == len(nodes) * (5 + 3 * 25)
@@ -100,16 +51,16 @@ def test_linear_torque_rows_are_the_rnea_to_first_order():
 
 def test_bernstein_rows_bound_velocity_and_position_between_nodes():
     # The rows are Bernstein coefficients: the polynomial stays within their hull.
-    _, compiled = _compiled()
+    _, compiled = youbot_nlp()
     layout = compiled.layout
     mid, half, vel, acc, jerk = compiled.scale
     rng = np.random.default_rng(1)
     for _ in range(5):
-        w = _exact_motion(compiled, rng)
+        w = exact_motion(compiled, rng)
         h, states, jerks = layout.split(w)
         n = layout.n
-        speed_rows = _rows(compiled, w, "velocity between nodes").reshape(layout.K, n)
-        position_rows = _rows(compiled, w, "position between nodes").reshape(layout.K, 2, n)
+        speed_rows = nlp_rows(compiled, w, "velocity between nodes").reshape(layout.K, n)
+        position_rows = nlp_rows(compiled, w, "position between nodes").reshape(layout.K, 2, n)
         for k in range(layout.K):
             tau = np.linspace(0.0, h[k], 50)[:, None]
             q0 = mid + half * states[k, :n]

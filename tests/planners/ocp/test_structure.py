@@ -4,31 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import get_robot
+from ocp_support import youbot_nlp
 
 from optraj.errors import InvalidInputError, UnknownNameError
 from optraj.planners.ocp.transcription import (
     PARAMETERS,
     Layout,
-    Structure,
-    compile_nlp,
     parameter_vector,
-    structure_limits,
 )
-from optraj.robots import SymbolicModel
-
-
-def _compiled(intervals=(4, 3), **fields):
-    robot = get_robot("youbot")
-    structure = Structure(
-        robot=robot.name,
-        limits=structure_limits(robot.limits),
-        tool_frame=robot.tool_frame,
-        intervals=intervals,
-        free=(True, False),
-        **fields,
-    )
-    return robot, compile_nlp(structure, SymbolicModel(robot))
 
 
 def test_layout_splits_what_it_indexes():
@@ -54,4 +37,4 @@ def test_parameter_vector_names_what_is_wrong():
 
 def test_unknown_torque_rows_are_named():
     with pytest.raises(UnknownNameError, match="rnea"):
-        _compiled(torque_nodes=(1,), torque_rows="quadratic")
+        youbot_nlp(torque_nodes=(1,), torque_rows="quadratic")
