@@ -3,9 +3,10 @@
 Plans seeded pool strikes with every strike planner, seeded random moves of Sawyer, youBot
 and Panda with every joint-space planner, the scenario problems, and tracks two strikes in
 closed loop with every controller (one of them in MuJoCo); records each result's iteration
-counts, objectives, motion time, numeric metadata and samples of the trajectory, and writes
-them as JSON. ``--compare`` then lists every number that moved by more than a tolerance:
-a change meant to leave behaviour alone must leave this file alone (wall times excluded).
+counts, objectives, motion time, numeric metadata, samples of the trajectory and the
+independent checker's findings on it, and writes them as JSON. ``--compare`` then lists
+every number that moved by more than a tolerance: a change meant to leave behaviour alone
+must leave this file alone (wall times excluded).
 
 Usage::
 
@@ -77,11 +78,30 @@ def _trajectory(traj: planners.Trajectory) -> dict[str, Any]:
     return record
 
 
-def _attempt(plan: Callable[[], planners.Trajectory]) -> dict[str, Any]:
+def _checked(traj: planners.Trajectory, problem: Any) -> dict[str, Any]:
+    """The independent checker's findings on ``traj``: worst value, margin, time, joint."""
+    report = planners.check(traj, problem)
+    return {
+        finding.name: [
+            finding.value,
+            finding.margin,
+            "-" if finding.time is None else finding.time,
+            finding.joint or "-",
+            finding.ok,
+        ]
+        for finding in report.findings
+    }
+
+
+def _attempt(plan: Callable[[], planners.Trajectory], problem: Any = None) -> dict[str, Any]:
     try:
-        return _trajectory(plan())
+        traj = plan()
     except OptrajError as exc:
         return {"error": type(exc).__name__, "message": str(exc)}
+    record = _trajectory(traj)
+    if problem is not None:
+        record["check"] = _checked(traj, problem)
+    return record
 
 
 def _strike_planners() -> list[tuple[str, Any]]:
@@ -130,16 +150,19 @@ def cases() -> Iterator[tuple[str, Callable[[], dict[str, Any]]]]:
     shots, _ = pool_shots(SHOTS, seed=SEED)
     for index, shot in enumerate(shots):
         for label, planner in _strike_planners():
-            yield f"shot {index} {label}", lambda p=planner, s=shot: _attempt(lambda: p.plan(s))
+            yield f"shot {index} {label}", lambda p=planner, s=shot: _attempt(lambda: p.plan(s), s)
     for name, move in _moves():
         for label, planner in _joint_planners():
-            yield f"{name} {label}", lambda p=planner, m=move: _attempt(lambda: p.plan(m))
+            yield f"{name} {label}", lambda p=planner, m=move: _attempt(lambda: p.plan(m), m)
         yield f"{name} lower bound", lambda m=move: {"value": planners.lower_bound(m)}
     paddle = problems.seed_paddle_strike()
     for label, planner in [("cubic", planners.Cubic()), ("ocp", planners.OptimalControl())]:
-        yield f"paddle {label}", lambda p=planner: _attempt(lambda: p.plan(paddle))
+        yield f"paddle {label}", lambda p=planner: _attempt(lambda: p.plan(paddle), paddle)
     blocks = problems.youbot_two_blocks()
-    yield "youbot blocks", lambda: _attempt(lambda: planners.PickAndPlacePlanner().plan(blocks))
+    yield (
+        "youbot blocks",
+        lambda: _attempt(lambda: planners.PickAndPlacePlanner().plan(blocks), blocks),
+    )
     for index, shot in enumerate(shots[:2]):
         yield f"tracking {index}", lambda s=shot: _tracking(s)
     yield "ocp warm re-plan", lambda: _warm(shots[0], shots[0])
