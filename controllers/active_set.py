@@ -52,8 +52,8 @@ class ActiveSet:
         arm's self-motion, held only by the damping and posture terms) its ``x`` may be off
         by tolerance / weight, which this removes.
         """
-        x = self._on_bounds(qp)
-        if x is None or self._next(qp, x) is not self:
+        x = self.on_bounds(qp)
+        if x is None or self.next_set(qp, x) is not self:
             return None
         return np.minimum(np.maximum(x, qp.lower), qp.upper)  # round-off within the slack
 
@@ -69,10 +69,10 @@ class ActiveSet:
         """
         active, seen = self, {self.upper.tobytes() + self.lower.tobytes()}
         for _ in range(tries):
-            x = active._on_bounds(qp)
+            x = active.on_bounds(qp)
             if x is None:
                 return None
-            following = active._next(qp, x)
+            following = active.next_set(qp, x)
             if following is active:
                 return active, np.minimum(np.maximum(x, qp.lower), qp.upper)
             key = following.upper.tobytes() + following.lower.tobytes()
@@ -82,7 +82,7 @@ class ActiveSet:
             active = following
         return None
 
-    def _on_bounds(self, qp: QP) -> FloatArray | None:
+    def on_bounds(self, qp: QP) -> FloatArray | None:
         """The QP's minimiser with the held joints fixed at their bounds; None if singular."""
         if self.empty:
             _, x, info = lapack.dposv(qp.H, qp.c)
@@ -95,7 +95,7 @@ class ActiveSet:
             _, _, x, info = lapack.dgesv(K, rhs)
         return None if info != 0 else x
 
-    def _next(self, qp: QP, x: FloatArray) -> ActiveSet:
+    def next_set(self, qp: QP, x: FloatArray) -> ActiveSet:
         """This set if x (its solution) is optimal, else the set to try next.
 
         Optimal: free joints within their bounds; held joints' cost gradient pointing out of

@@ -23,7 +23,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from optraj.controllers.controller import Reference, as_gains, cross3, rotation_error
 from optraj.robots import Robot
-from optraj.validation import as_choice
+from optraj.validation import as_choice, as_vector
 
 __all__ = ["AXIS_SINE", "TASKS", "CartesianPID", "tool_kinematics"]
 
@@ -97,9 +97,17 @@ class CartesianPID:
         self._integral_floor = -self.integral_limit
         self._integral = np.zeros(6)
 
-    def reset(self) -> None:
-        """Clear the integral."""
-        self._integral = np.zeros(6)
+    def reset(self, integral: ArrayLike | None = None) -> None:
+        """Clear the integral, or start it from ``integral``.
+
+        Args:
+            integral: The integrated pose error to continue from [m s; rad s], shape (6,)
+                (taken as given, not clamped); None for zeros.
+
+        Raises:
+            InvalidInputError: ``integral`` of another shape or not finite.
+        """
+        self._integral = np.zeros(6) if integral is None else as_vector(integral, "integral", 6)
 
     @property
     def integral(self) -> FloatArray:

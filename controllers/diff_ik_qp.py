@@ -255,9 +255,9 @@ class DiffIKQP(Controller):
 
     def _make_fused(self) -> FusedStep:
         compiled = self.evaluation == "compiled"
-        return FusedStep(self.robot, self._step_settings(), compiled=compiled)
+        return FusedStep(self.robot, self.step_settings(), compiled=compiled)
 
-    def _step_settings(self) -> StepSettings:
+    def step_settings(self) -> StepSettings:
         """This controller's settings, as a :class:`FusedStep` is built from them."""
         return StepSettings(
             self.pid,
@@ -276,6 +276,11 @@ class DiffIKQP(Controller):
     def name(self) -> str:
         """Short name for tables and plots."""
         return "differential-IK QP"
+
+    @property
+    def active_set(self) -> ActiveSet:
+        """The bounds that held at the last step's solution, where the next step starts."""
+        return self._active
 
     def reset(self, state: State) -> None:
         """Clear the integral and the warm start; the measured velocity becomes the last command."""

@@ -12,8 +12,8 @@ expression of the measured state and the reference:
    posture moving with the velocity given for it), and the velocity, acceleration and
    position boxes intersected in that order;
 4. the QP's exact solution with the last step's active set held at its bounds, whether it
-   meets the optimality conditions, and the set to try next (``ActiveSet._on_bounds`` and
-   ``ActiveSet._next``).
+   meets the optimality conditions, and the set to try next (:func:`solve_on_set`, the
+   symbolic :meth:`ActiveSet.on_bounds` and :meth:`ActiveSet.next_set`).
 
 A second function continues the active-set method from that next set for up to
 ``active_set_changes`` rounds, unrolled; it runs only when the active set changed. Each is
@@ -46,7 +46,7 @@ from optraj.controllers.qp_terms import task_weights
 from optraj.errors import CompilerError
 from optraj.robots import JointLimits, Robot, SymbolicModel
 
-__all__ = ["NEAR_HALF_TURN", "FusedStep", "StepSettings"]
+__all__ = ["NEAR_HALF_TURN", "FusedStep", "StepSettings", "solve_on_set"]
 
 FloatArray = NDArray[np.float64]
 
@@ -290,7 +290,7 @@ def _step_function(robot: Robot, settings: StepSettings, options: dict[str, Any]
     lower, upper = _boxes(settings, q, last, dt)
     overlap_lost = ca.sum1(lower > upper) > 0
 
-    x, ok, held_upper, held_lower = _solve_on_set(
+    x, ok, held_upper, held_lower = solve_on_set(
         H, c, lower, upper, active[:n], active[n:], settings.slack
     )
     output = ca.vertcat(
@@ -386,14 +386,14 @@ def _search_function(n: int, changes: int, slack: float, options: dict[str, Any]
     x, ok = ca.SX.zeros(n), ca.SX(0)
     for _ in range(changes):
         # Once the set is optimal it maps onto itself, so the remaining rounds keep it.
-        x, ok, held_upper, held_lower = _solve_on_set(
+        x, ok, held_upper, held_lower = solve_on_set(
             H, c, lower, upper, held_upper, held_lower, slack
         )
     output = ca.vertcat(x, ok, held_upper, held_lower)
     return ca.Function("diff_ik_qp_search", [packed], [output], ["qp"], ["output"], options)
 
 
-def _solve_on_set(
+def solve_on_set(
     H: ca.SX,
     c: ca.SX,
     lower: ca.SX,
@@ -402,11 +402,21 @@ def _solve_on_set(
     held_lower: ca.SX,
     slack: float,
 ) -> tuple[ca.SX, ca.SX, ca.SX, ca.SX]:
-    """One round of the active-set method (``ActiveSet._on_bounds`` and ``._next``).
+    """One round of the active-set method on CasADi expressions, for a bounds-only QP.
 
-    The exact solution with the held joints at their bounds, written as the symmetric reduced
+    The symbolic form of :meth:`ActiveSet.on_bounds` followed by :meth:`ActiveSet.next_set`:
+    the exact solution with the held joints at their bounds, written as the symmetric reduced
     system (the free rows and columns of ``H``, unit rows for the held joints), whether it is
     optimal, and the set to try next (this one when optimal, up to its pinned joints).
+
+    Args:
+        H: The QP's Hessian, positive definite, shape (n, n).
+        c: Its linear term, shape (n, 1).
+        lower: Lower bounds of the variables, shape (n, 1).
+        upper: Upper bounds of the variables, shape (n, 1).
+        held_upper: 1.0 for the joints held at their upper bound, else 0.0, shape (n, 1).
+        held_lower: The same for the lower bound.
+        slack: Relative slack of the optimality test (:attr:`ActiveSet.SLACK`).
 
     Returns:
         ``(x, ok, next held at upper, next held at lower)``, masks of 1.0 and 0.0.

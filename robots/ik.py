@@ -42,12 +42,6 @@ _LOCATE_TOLERANCE = 1e-6
 #: otherwise in batches of twice the number wanted.
 _ONE_BY_ONE = 2
 
-# The attempt's pieces under their former names here (the tests and callers may use them).
-_Attempt = Attempt
-_PoseError = PoseError
-_levenberg_marquardt = levenberg_marquardt
-_levenberg_marquardt_batch = levenberg_marquardt_batch
-
 
 @dataclass(frozen=True)
 class IKSolution:

@@ -123,6 +123,24 @@ def test_integral_accumulates_error_times_dt_then_clamps_and_resets():
     np.testing.assert_allclose(pid.integral, np.clip(dt * error, -limit, limit), atol=1e-15)
 
 
+def test_reset_continues_from_a_given_integral():
+    T = _measured_pose()
+    offset = np.array([0.004, -0.002, 0.001])
+    reference = _reference(_pose(T[:3, :3], T[:3, 3] + offset))
+    error = np.concatenate([offset, np.zeros(3)])
+    pid = CartesianPID(kp=0.0, ki=2.0, integral_limit=(0.01, 0.05))
+    start = np.array([0.001, 0.002, -0.003, 0.01, -0.02, 0.03])
+    pid.reset(start)
+    start[:] = 0.0  # the PID keeps its own copy
+    np.testing.assert_array_equal(pid.integral, [0.001, 0.002, -0.003, 0.01, -0.02, 0.03])
+    command = pid.twist(T, np.zeros((6, 7)), np.zeros(7), reference, 0.5)
+    expected = np.array([0.001, 0.002, -0.003, 0.01, -0.02, 0.03]) + 0.5 * error
+    np.testing.assert_allclose(pid.integral, expected, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(command, 2.0 * expected, rtol=0, atol=1e-14)
+    with pytest.raises(InvalidInputError, match="integral"):
+        pid.reset([0.0, 0.0])
+
+
 def test_derivative_term_uses_reference_twist_minus_measured_twist():
     rng = np.random.default_rng(12)
     T = _measured_pose()

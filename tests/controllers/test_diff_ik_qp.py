@@ -89,8 +89,7 @@ def test_constrained_solution_equals_bounded_least_squares():
         controller = DiffIKQP(robot, ki=0.0, velocity_scale=0.05, kp=200.0)
         q, reference = _random_case(robot, rng)
         state = State(0.0, q, np.zeros(robot.dof))
-        controller.reset(state)
-        controller._last = np.zeros(robot.dof)
+        controller.reset(state)  # the last command: the state's (zero) velocity
         qp = controller.build(state, reference, DT)
         A, b = _stacked_least_squares(robot, controller, q, reference)
         expected = lsq_linear(A, b, bounds=(qp.lower, qp.upper), tol=1e-14, method="bvls").x
@@ -283,24 +282,6 @@ def test_the_command_carries_the_plans_feed_forward_torque(evaluation):
     plain = DiffIKQP(robot, evaluation=evaluation)
     plain.reset(state)
     assert plain.step(state, reference._replace(tau=None), DT).tau is None
-
-
-def test_public_wrapper_path_gives_the_same_commands():
-    robot = get_robot("sawyer")
-    rng = np.random.default_rng(15)
-    fast, slow = (DiffIKQP(robot, active_set_changes=0) for _ in range(2))  # OSQP steps
-    q, reference = _random_case(robot, rng)
-    state = State(0.0, q, np.zeros(robot.dof))
-    fast.reset(state)
-    slow.reset(state)
-    for k in range(20):
-        a = fast.step(state, reference, DT)
-        b = slow.step(state, reference, DT)
-        if k == 0:
-            slow._solver.compiled = None  # from now on through osqp's public update/solve
-        np.testing.assert_allclose(a.qd, b.qd, atol=1e-6)
-        state = State(k * DT, q + a.qd * DT, a.qd)
-        q = state.q
 
 
 def test_pickled_controller_continues_with_the_same_commands():

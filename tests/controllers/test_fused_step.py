@@ -16,7 +16,7 @@ from optraj import controllers, planners, problems, robots
 from optraj.controllers.active_set import ActiveSet
 from optraj.controllers.controller import Reference, State
 from optraj.controllers.diff_ik_qp import DiffIKQP
-from optraj.controllers.fused_step import FusedStep, _solve_on_set
+from optraj.controllers.fused_step import FusedStep, solve_on_set
 from optraj.controllers.qp_terms import QP, identity
 from optraj.controllers.simulation import Noise, simulate
 from optraj.errors import CompilerError, UnknownNameError, UnsupportedModelError
@@ -26,7 +26,13 @@ HAS_GCC = shutil.which("gcc") is not None
 
 
 def _fused(controller: DiffIKQP) -> FusedStep:
-    return controller._make_fused()
+    return FusedStep(controller.robot, controller.step_settings())
+
+
+def _start(controller: DiffIKQP, state: State, last, integral) -> None:
+    """Reset the controller to continue from this last command and PID integral."""
+    controller.reset(State(state.t, state.q, last))
+    controller.pid.reset(integral)
 
 
 def _random_step(robot, rng, spread=0.01):
@@ -67,8 +73,7 @@ def test_numbers_and_optimality_test_equal_the_pieces(name, settings):
     held = np.zeros(robot.dof, dtype=bool)
     for _ in range(300):
         state, reference, last, integral = _random_step(robot, rng)
-        controller._last = last
-        controller.pid._integral = integral.copy()
+        _start(controller, state, last, integral)
         qp = controller.build(state, reference, DT)  # advances the PID's integral
         # The QP's own active set (by the search) half the time, else one joint toggled.
         found = None if qp.relaxed else ActiveSet.none(robot.dof).search(qp, 20)
@@ -94,9 +99,9 @@ def test_numbers_and_optimality_test_equal_the_pieces(name, settings):
         np.testing.assert_array_equal(fused.upper, qp.upper)
         np.testing.assert_allclose(fused.integral, controller.pid.integral, rtol=0, atol=1e-15)
         active = ActiveSet(upper, lower)
-        x = active._on_bounds(qp)
+        x = active.on_bounds(qp)
         np.testing.assert_allclose(fused.x, x, rtol=0, atol=1e-9 * max(1.0, np.abs(x).max()))
-        optimal = active._next(qp, x) is active
+        optimal = active.next_set(qp, x) is active
         assert ok == optimal
         accepted += optimal
         refused += not optimal
@@ -141,8 +146,7 @@ def test_the_posture_velocity_input_enters_c_as_in_the_pieces(name):
             c_moving - c_resting, -controller.posture_weight * reference.qd, rtol=0, atol=1e-12
         )
         for pieces, c in ((controller, c_moving), (resting, c_resting)):
-            pieces._last = last
-            pieces.pid._integral = integral.copy()
+            _start(pieces, state, last, integral)
             qp = pieces.build(state, reference, DT)
             scale = max(1.0, float(np.abs(qp.H).max()))
             np.testing.assert_allclose(c, qp.c, rtol=0, atol=1e-12 * scale)
@@ -164,8 +168,7 @@ def test_a_joint_beyond_its_position_limit_is_sent_back_as_by_the_pieces(side):
         # Already moving back at the speed the position bound asks for.
         last = np.zeros(robot.dof)
         last[j] = -sign * controller.position_gain * 1e-4 / DT
-        controller._last = last
-        controller.pid._integral = integral.copy()
+        _start(controller, state, last, integral)
         qp = controller.build(state, reference, DT)
         fused.set_active(np.zeros(robot.dof, bool), np.zeros(robot.dof, bool))
         _, fallback = fused(
@@ -207,8 +210,7 @@ def test_a_step_near_half_a_turn_is_the_pieces_step_with_one_integral_advance():
     flipped = reference._replace(T_world_tool=reference.T_world_tool @ np.diag([1, -1, -1, 1.0]))
     fused, pieces = DiffIKQP(robot), DiffIKQP(robot, evaluation="pieces")
     for controller in (fused, pieces):
-        controller.reset(state)
-        controller.pid._integral = integral.copy()
+        _start(controller, state, state.qd, integral)
     a, b = fused.step(state, flipped, DT), pieces.step(state, flipped, DT)
     assert fused.diagnostics["evaluation"] == "pieces"
     np.testing.assert_array_equal(a.qd, b.qd)
@@ -228,7 +230,7 @@ def test_one_round_equals_the_numpy_round_with_pinned_joints():
     round_ = ca.Function(
         "round",
         [H, c, lower, upper, held_upper, held_lower],
-        list(_solve_on_set(H, c, lower, upper, held_upper, held_lower, ActiveSet.SLACK)),
+        list(solve_on_set(H, c, lower, upper, held_upper, held_lower, ActiveSet.SLACK)),
     )
     rng = np.random.default_rng(48)
     kinds = {"optimal": 0, "changed": 0, "pinned held at lower": 0}
@@ -255,8 +257,8 @@ def test_one_round_equals_the_numpy_round_with_pinned_joints():
                 not (up_mask[toggle] | lo_mask[toggle]),
             )
         active = ActiveSet(up_mask, lo_mask)
-        x = active._on_bounds(qp)
-        following = active._next(qp, x)
+        x = active.on_bounds(qp)
+        following = active.next_set(qp, x)
         xf, ok, next_upper, next_lower = (
             np.asarray(v).ravel() for v in round_(Hn, cn, lo, up, up_mask, lo_mask)
         )
@@ -322,9 +324,7 @@ def test_steps_from_random_states_take_the_pieces_paths():
     for _ in range(60):
         state, reference, last, integral = _random_step(robot, rng)
         for controller in (fused, pieces):
-            controller.reset(state)
-            controller._last = last.copy()
-            controller.pid._integral = integral.copy()
+            _start(controller, state, last, integral)
         a = fused.step(state, reference, DT)
         b = pieces.step(state, reference, DT)
         np.testing.assert_allclose(a.qd, b.qd, rtol=0, atol=1e-9)
@@ -349,9 +349,9 @@ def test_every_call_solves_on_the_controllers_active_set(monkeypatch):
 
     def checked(self, *args):
         held = self.active > 0.5
-        np.testing.assert_array_equal(held[: robot.dof], controller._active.upper)
-        np.testing.assert_array_equal(held[robot.dof :], controller._active.lower)
-        calls.append(controller._active.empty)
+        np.testing.assert_array_equal(held[: robot.dof], controller.active_set.upper)
+        np.testing.assert_array_equal(held[robot.dof :], controller.active_set.lower)
+        calls.append(controller.active_set.empty)
         return original(self, *args)
 
     monkeypatch.setattr(FusedStep, "__call__", checked)
@@ -372,13 +372,15 @@ def test_pickled_fused_controller_rebuilds_its_function():
     state, reference, _, _ = _random_step(robot, rng)
     controller.reset(state)
     controller.step(state, reference, DT)
+    # A FusedStep refuses to pickle, so the controller pickles without its function ...
+    with pytest.raises(TypeError, match="rebuild"):
+        pickle.dumps(_fused(controller))
     clone = pickle.loads(pickle.dumps(controller))
-    assert clone._fused is None
+    # ... and the clone rebuilds it for its next step.
     np.testing.assert_array_equal(
         clone.step(state, reference, DT).qd, controller.step(state, reference, DT).qd
     )
-    with pytest.raises(TypeError, match="rebuild"):
-        pickle.dumps(controller._fused)
+    assert clone.diagnostics["evaluation"] == "fused"
 
 
 @pytest.mark.skipif(not HAS_GCC, reason="no C compiler (gcc) on this machine")
@@ -395,7 +397,7 @@ def test_a_missing_compiler_and_an_unknown_evaluation_are_named():
     robot = get_robot("paddle4")
     controller = DiffIKQP(robot)
     with pytest.raises(CompilerError, match=r"could not compile .* with 'no-such-cc'"):
-        FusedStep(robot, controller._step_settings(), compiled=True, compiler="no-such-cc")
+        FusedStep(robot, controller.step_settings(), compiled=True, compiler="no-such-cc")
     with pytest.raises(UnknownNameError, match="evaluation 'fast'"):
         DiffIKQP(robot, evaluation="fast")  # type: ignore[arg-type]
 
@@ -404,7 +406,13 @@ def test_extra_rows_use_the_pieces():
     robot = get_robot("paddle4")
     rows = controllers.Constraint(np.ones((1, robot.dof)), np.array([-0.1]), np.array([0.1]))
     controller = DiffIKQP(robot, constraints=[rows])
-    assert controller._fused is None
+    q = robot.home
+    reference = Reference(0.0, q, np.zeros(robot.dof), np.zeros(robot.dof), robot.tool_pose(q),
+                          np.zeros(6), "")  # fmt: skip
+    controller.reset(State(0.0, q, np.zeros(robot.dof)))
+    controller.step(State(0.0, q, np.zeros(robot.dof)), reference, DT)
+    assert controller.evaluation == "fused"  # as asked, but the extra rows need the pieces
+    assert controller.diagnostics["evaluation"] == "pieces"
 
 
 def _helical_robot():

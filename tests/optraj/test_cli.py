@@ -437,8 +437,13 @@ def test_check_of_bad_problem_metadata_exits_2(tmp_path, monkeypatch, capsys):
 # --------------------------------------------------------------------------------- bench
 
 
+def _installed_at(monkeypatch, root: Path) -> None:
+    """Make optraj look installed at ``root``: the bench runner is looked for beside it."""
+    monkeypatch.setattr(optraj, "__file__", str(root / "optraj" / "__init__.py"))
+
+
 def test_bench_without_the_source_checkout_exits_2(monkeypatch, capsys, tmp_path):
-    monkeypatch.setattr(optraj.cli, "_benchmarks_runner", lambda: tmp_path / "run_all.py")
+    _installed_at(monkeypatch, tmp_path)
     assert main(["bench", "--quick"], out=io.StringIO()) == 2
     assert "benchmarks ship with the source checkout" in _error_line(capsys)
 
@@ -452,7 +457,7 @@ def test_bench_runs_the_runner_with_this_python_and_forwards_quick(monkeypatch, 
         " open('seen.json', 'w'))\n"
         "sys.exit(3)\n"
     )
-    monkeypatch.setattr(optraj.cli, "_benchmarks_runner", lambda: runner)
+    _installed_at(monkeypatch, tmp_path)
     assert main(["bench", "--quick"], out=io.StringIO()) == 3
     seen = json.loads((tmp_path / "seen.json").read_text())
     assert seen["argv"] == ["--quick"]
@@ -460,6 +465,14 @@ def test_bench_runs_the_runner_with_this_python_and_forwards_quick(monkeypatch, 
     assert Path(seen["python"]).resolve() == Path(sys.executable).resolve()
 
 
-def test_bench_finds_the_runner_next_to_the_packages():
+def test_bench_finds_the_runner_next_to_the_packages(monkeypatch):
     root = Path(optraj.__file__).resolve().parents[1]
-    assert optraj.cli._benchmarks_runner() == root / "benchmarks" / "run_all.py"
+    ran = []
+
+    def run(command, **options):
+        ran.append((command, options["cwd"]))
+        return subprocess.CompletedProcess(command, 0)
+
+    monkeypatch.setattr(subprocess, "run", run)
+    assert main(["bench"], out=io.StringIO()) == 0
+    assert ran == [([sys.executable, str(root / "benchmarks" / "run_all.py")], root)]
