@@ -1,41 +1,14 @@
 """optraj: optimization-based motion planning for arms that strike and carry.
 
-The import packages are :mod:`robots`, :mod:`problems`, :mod:`planners` and
-:mod:`controllers`; this package holds the shared base (errors) and the command-line tool, and
-re-exports the errors only, so that ``import optraj`` stays cheap.
+The packages are :mod:`optraj.robots`, :mod:`optraj.problems`, :mod:`optraj.planners`,
+:mod:`optraj.controllers` and :mod:`optraj.physics` (``from optraj import planners``); this
+package holds the shared base (errors, input checks) and the command-line tool, and
+re-exports the errors only (every name of :mod:`optraj.errors`), so that ``import optraj``
+stays cheap.
 """
 
-from optraj.errors import (
-    CompilerError,
-    InfeasibleError,
-    InvalidInputError,
-    JointLimitError,
-    MissingDependencyError,
-    OptrajError,
-    OptrajWarning,
-    PathJumpError,
-    PathJumpWarning,
-    SolverError,
-    UnknownNameError,
-    UnreachableError,
-    UnsupportedModelError,
-    WorkspaceError,
-)
+import optraj.errors as errors
+from optraj.errors import *  # noqa: F403  # the errors are the package's public face
 
-__all__ = [
-    "CompilerError",
-    "InfeasibleError",
-    "InvalidInputError",
-    "JointLimitError",
-    "MissingDependencyError",
-    "OptrajError",
-    "OptrajWarning",
-    "PathJumpError",
-    "PathJumpWarning",
-    "SolverError",
-    "UnknownNameError",
-    "UnreachableError",
-    "UnsupportedModelError",
-    "WorkspaceError",
-]
+__all__ = errors.__all__
 __version__ = "0.1.0"

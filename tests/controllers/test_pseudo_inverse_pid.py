@@ -31,6 +31,11 @@ def _state(q):
     return State(0.0, q, np.zeros_like(q))
 
 
+def _minimum_norm(robot, q, twist):
+    """The smallest joint velocity whose tool twist is nearest ``twist`` (least squares)."""
+    return np.linalg.lstsq(robot.jacobian(q), twist, rcond=None)[0]
+
+
 @pytest.mark.parametrize("name", ["sawyer", "paddle4"])
 def test_step_is_minimum_norm_least_squares_of_twist(name):
     robot = get_robot(name)
@@ -43,7 +48,7 @@ def test_step_is_minimum_norm_least_squares_of_twist(name):
         assert isinstance(command, Command)
         assert command.status == "ok"
         assert not command.fallback
-        expected = np.linalg.lstsq(robot.jacobian(q), twist, rcond=None)[0]
+        expected = _minimum_norm(robot, q, twist)
         np.testing.assert_allclose(command.qd, expected, rtol=1e-9, atol=1e-9)
 
 
@@ -62,7 +67,7 @@ def test_step_includes_proportional_term(name):
         twist = rng.normal(size=6)
         command = controller.step(_state(q), _reference(T_desired, twist, robot.dof), DT)
         v = twist + np.concatenate([4.0 * offset, 9.0 * turn])
-        expected = np.linalg.lstsq(robot.jacobian(q), v, rcond=None)[0]
+        expected = _minimum_norm(robot, q, v)
         np.testing.assert_allclose(command.qd, expected, rtol=1e-9, atol=1e-9)
 
 
@@ -79,7 +84,7 @@ def test_damped_step_equals_svd_formula(name):
         expected = Vt.T @ ((s / (s**2 + damping**2)) * (U.T @ twist))
         np.testing.assert_allclose(command.qd, expected, rtol=1e-9, atol=1e-10)
         # Damping shrinks the command compared with the plain pseudo-inverse.
-        plain = np.linalg.lstsq(robot.jacobian(q), twist, rcond=None)[0]
+        plain = _minimum_norm(robot, q, twist)
         assert np.linalg.norm(command.qd) < np.linalg.norm(plain)
 
 
@@ -98,7 +103,7 @@ def test_axis_task_reproduces_twist_except_about_tool_axis():
             achieved[3:] - (achieved[3:] @ z) * z, twist[3:] - (twist[3:] @ z) * z, atol=1e-9
         )
         # Freeing the roll gives a smaller joint velocity than the full 6-D task.
-        full = np.linalg.lstsq(robot.jacobian(q), twist, rcond=None)[0]
+        full = _minimum_norm(robot, q, twist)
         assert np.linalg.norm(command.qd) <= np.linalg.norm(full) + 1e-12
 
 

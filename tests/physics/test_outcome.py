@@ -7,16 +7,6 @@ from optraj import controllers, physics, planners, problems
 from optraj.errors import InvalidInputError
 
 
-@pytest.fixture(scope="module")
-def shot(pool_shot):
-    return pool_shot
-
-
-@pytest.fixture(scope="module")
-def plan(pool_plan):
-    return pool_plan
-
-
 def _track(shot, plan, scene=None, **options):
     robot = shot.robot
     plant = physics.MujocoPlant(scene or physics.scene_for(shot))
@@ -24,42 +14,44 @@ def _track(shot, plan, scene=None, **options):
     return physics.outcome(result, shot)
 
 
-def test_a_tracked_pool_shot_sends_the_ball_on_its_line(shot, plan):
-    outcome = _track(shot, plan)
+def test_a_tracked_pool_shot_sends_the_ball_on_its_line(pool_shot, pool_plan):
+    outcome = _track(pool_shot, pool_plan)
     assert outcome.hit and outcome.contacts == 1
     assert outcome.within
     assert abs(outcome.heading_error) < 0.1
     assert 1.5 < outcome.effective_mass < 3.0  # Sawyer's cue tip, about 2 kg
     # the ball rolls out along +x and stays on the table
-    assert outcome.rest_position[0] > shot.ball[0]
-    assert abs(outcome.rest_position[2] - shot.ball[2]) < 1e-3
+    assert outcome.rest_position[0] > pool_shot.ball[0]
+    assert abs(outcome.rest_position[2] - pool_shot.ball[2]) < 1e-3
     # the roll-out ends where the ball rests, from where the run left it
     np.testing.assert_array_equal(outcome.roll[-1], outcome.rest_position)
     np.testing.assert_allclose(outcome.roll[0], outcome.path[-1])
-    np.testing.assert_array_equal(outcome.start, shot.ball)
-    np.testing.assert_array_equal(outcome.direction, shot.direction)
+    np.testing.assert_array_equal(outcome.start, pool_shot.ball)
+    np.testing.assert_array_equal(outcome.direction, pool_shot.direction)
 
 
-def test_outcomes_are_deterministic_for_a_seed(shot, plan):
-    a = _track(shot, plan, noise=controllers.Noise(seed=4))
-    b = _track(shot, plan, noise=controllers.Noise(seed=4))
+def test_outcomes_are_deterministic_for_a_seed(pool_shot, pool_plan):
+    a = _track(pool_shot, pool_plan, noise=controllers.Noise(seed=4))
+    b = _track(pool_shot, pool_plan, noise=controllers.Noise(seed=4))
     assert a.heading_error == b.heading_error
     np.testing.assert_array_equal(a.launch_velocity, b.launch_velocity)
 
 
-def test_a_ball_that_is_never_touched_is_a_miss(shot, plan):
-    elsewhere = physics.scene_for(shot).with_ball(np.asarray(shot.ball) + np.array([0.0, 0.2, 0.0]))
-    outcome = _track(shot, plan, scene=elsewhere)
+def test_a_ball_that_is_never_touched_is_a_miss(pool_shot, pool_plan):
+    elsewhere = physics.scene_for(pool_shot).with_ball(
+        np.asarray(pool_shot.ball) + np.array([0.0, 0.2, 0.0])
+    )
+    outcome = _track(pool_shot, pool_plan, scene=elsewhere)
     assert not outcome.hit and not outcome.within
     assert outcome.heading_error == np.inf
     assert "missed" in outcome.summary()
     np.testing.assert_array_equal(outcome.roll, [outcome.start])  # it never moved
 
 
-def test_outcome_needs_a_mujoco_record(shot, plan):
-    result = controllers.simulate(shot.robot, plan, controllers.DiffIKQP(shot.robot))
+def test_outcome_needs_a_mujoco_record(pool_shot, pool_plan):
+    result = controllers.simulate(pool_shot.robot, pool_plan, controllers.DiffIKQP(pool_shot.robot))
     with pytest.raises(InvalidInputError, match="MujocoPlant"):
-        physics.outcome(result, shot)
+        physics.outcome(result, pool_shot)
 
 
 def test_a_paddle_strike_leaves_along_the_paddle_normal():
