@@ -59,7 +59,7 @@ from optraj.controllers.cartesian_pid import CartesianPID, tool_kinematics
 from optraj.controllers.controller import Command, Controller, Reference, State
 from optraj.controllers.fused_step import FusedStep, StepSettings
 
-# OSQP_INFINITY and USABLE moved with the workspace; still importable from here.
+# OSQP_INFINITY and USABLE belong to the workspace; re-exported, importable from here too.
 from optraj.controllers.osqp_workspace import OSQP_INFINITY, USABLE, OSQPWorkspace  # noqa: F401
 from optraj.controllers.qp_terms import (
     QP,
@@ -140,8 +140,8 @@ class DiffIKQP(Controller):
             (default), one CasADi function of the state for the kinematics, the PID law, the
             QP's numbers and the exact solve on the last active set
             (:class:`~controllers.fused_step.FusedStep`); ``"compiled"``, the same compiled to
-            C with gcc (about 1 s when the controller is made or unpickled, then a few
-            microseconds a step); ``"pieces"``, :meth:`build` from
+            C with gcc (once, when the controller is made or unpickled; its steps are then
+            faster); ``"pieces"``, :meth:`build` from
             :mod:`controllers.qp_terms` at every step. All three give the same command to
             round-off; the fused ones hand over to the pieces when the boxes do not overlap or
             the 6-D task's orientation error is near half a turn

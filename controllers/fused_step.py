@@ -1,7 +1,7 @@
 r"""The differential-IK QP step as CasADi functions: the fast path of :class:`DiffIKQP`.
 
 :class:`~controllers.diff_ik_qp.DiffIKQP` builds its QP from small pieces
-(:mod:`controllers.qp_terms`), which keeps each term testable but costs about 60 small NumPy
+(:mod:`controllers.qp_terms`), which keeps each term testable but costs many small NumPy
 calls per step. :class:`FusedStep` writes the same arithmetic once as a CasADi ``SX``
 expression of the measured state and the reference:
 
@@ -19,7 +19,7 @@ A second function continues the active-set method from that next set for up to
 ``active_set_changes`` rounds, unrolled; it runs only when the active set changed. Each is
 evaluated in CasADi's virtual machine or, with ``compiled=True``, as C code compiled by the
 system's C compiler. Their inputs and outputs are NumPy arrays bound to them once (CasADi's
-``Function.buffer``), so a call costs about a microsecond plus the arithmetic.
+``Function.buffer``), so a call costs little beyond the arithmetic.
 
 The step covers the usual case only. It reports ``fallback`` when the pieces must decide:
 boxes that do not overlap (the pieces relax them in priority order and name them), and, for
@@ -91,9 +91,9 @@ class FusedStep:
     Args:
         robot: The robot; its tool frame is the task frame.
         settings: The controller's settings.
-        compiled: Compile the functions to C with ``compiler`` (about 1 s, once) and
-            evaluate that; otherwise CasADi's virtual machine evaluates them (several times
-            slower arithmetic, no compiler needed).
+        compiled: Compile the functions to C with ``compiler`` (once, here) and evaluate
+            that; otherwise CasADi's virtual machine evaluates them (slower arithmetic, no
+            compiler needed).
         compiler: The C compiler command used when ``compiled``.
 
     Raises:
@@ -125,7 +125,7 @@ class FusedStep:
         self.n = n
         self.compiled = compiled
         directory = tempfile.mkdtemp(prefix="optraj-jit-") if compiled else None
-        options: dict[str, Any] = {"cse": True}  # about 8 % fewer instructions
+        options: dict[str, Any] = {"cse": True}  # common subexpressions evaluated once
         if directory is not None:
             # The C sources and libraries go to a directory of their own, removed as soon as
             # the libraries are loaded (they stay mapped); CasADi is told not to remove them.

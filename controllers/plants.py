@@ -319,10 +319,8 @@ class DynamicPlant(Plant):
             robot: The robot to simulate.
             bandwidth: Servo bandwidth [rad/s], > 0. The default 200 rad/s is a chosen
                 default: the 5 ms time constant of :class:`KinematicPlant`, so that both plants
-                agree on smooth motions that do not saturate, to within a few percent of the
-                commanded velocity (measured on a 0.5 Hz sine at 30 % of the velocity limits:
-                2 % on Sawyer, 6 % on paddle4's light last joint, which the inertia coupling
-                with joint 2 disturbs).
+                agree closely on smooth motions that do not saturate (least on a light joint
+                that the inertia coupling with a heavy one disturbs, such as paddle4's last).
             max_substep: Longest integration substep [s], > 0 (chosen default 0.25 ms: four
                 substeps per 1 ms control step, stable for the default bandwidth).
             saturate: Clip the actuator torques to the robot's effort limits.

@@ -1,9 +1,9 @@
 r"""Stepping a strike world finely around tool-ball contact, and what the contact did.
 
-A cue-ball contact lasts about 0.4 ms in our scenes (:mod:`physics.scene`). With a 1e-4 s
-physics step the ball's launch speed depends on where within a step the contact starts (about
-+-1 %, measured with a straight cue); at 2e-6 s it varies by 0.06 %. So a world is stepped at
-the coarse step while the tool is far from the ball and at the fine step from
+A cue-ball contact lasts about 0.4 ms in our scenes (:mod:`physics.scene`). With a coarse
+physics step the ball's launch speed depends on where within a step the contact starts; a
+fine step resolves the contact and makes the launch all but independent of that. So a world
+is stepped at the coarse step while the tool is far from the ball and at the fine step from
 :data:`LOOKAHEAD` before a possible contact (by the distance between the two geoms and their
 closing speed) until they are apart again.
 
@@ -27,7 +27,7 @@ __all__ = ["LOOKAHEAD", "ContactWatch"]
 
 FloatArray = NDArray[np.float64]
 
-#: Fine steps start this long before the tool could reach the ball [s] (the issue's 3 ms).
+#: Fine steps start this long before the tool could reach the ball [s].
 LOOKAHEAD = 3e-3
 #: ... and this far from it in any case [m].
 MARGIN = 1e-3

@@ -18,9 +18,9 @@ Contact parameters and why:
 * Tool on ball: frictionless (``condim=1``), so that the ball leaves along the contact normal
   and the heading error of an off-line tip is :math:`\arcsin(d / (R + r))` (tip friction would
   add spin, which is not modelled). ``solref = (2 ms, 0.07)``: the damping ratio 0.07 gives a
-  restitution of about 0.81 (measured in the scene: a heavy cue sends the ball off at 1.81 x
-  its speed), the cue-ball value of about 0.8 the strike outcome is specified with; the time
-  constant gives a contact of about 0.4 ms, the order of a real cue-ball contact (about 1 ms).
+  restitution of about 0.81, the cue-ball value of about 0.8 the strike outcome is specified
+  with; the time constant gives a contact of about 0.4 ms, the order of a real cue-ball
+  contact (about 1 ms).
 * Ball on cloth: sliding friction 0.2, rolling resistance 0.01 (a length of 0.01 R in MuJoCo)
   and spin friction 0.005 R, the usual ball-cloth values (Alciatore, "Pool and billiards
   physics resources", useful constants); critically damped, 4 ms (resolved by the 2e-4 s
@@ -72,7 +72,7 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
-#: Pool ball mass [kg] (WPA: 5.5 to 6 oz, 156 to 170 g; the issue's 0.17 kg).
+#: Pool ball mass [kg] (WPA: 5.5 to 6 oz, 156 to 170 g).
 POOL_BALL_MASS = 0.17
 #: Table-tennis ball radius and mass [m, kg] (ITTF: 40 mm diameter, 2.7 g).
 PADDLE_BALL_RADIUS = 0.02

@@ -23,9 +23,8 @@ __all__ = ["STILL_TOLERANCE", "PointToPoint", "is_still", "still_error"]
 #: positions (the spacing of doubles near the largest shipped limit, 2 pi, is 8.9e-16, and a
 #: configuration that went through arithmetic carries a few such ulps) and far below any
 #: joint's resolution (a 20-bit encoder resolves 2 pi / 2^20 = 6e-6 rad). It is not set by
-#: a planner: Cubic, Quintic, LSPB and Toppra plan one-joint moves of 2e-12 rad and more that
-#: pass the checker on all five robots (tests/test_point_to_point.py checks 2e-12 to 1e-9),
-#: and Toppra, the one that used to fail on tiny moves, plans them down to 1e-15 rad.
+#: a planner: the planners plan one-joint moves just above it that pass the checker
+#: (tests/problems/test_point_to_point.py checks 2e-12 to 1e-9 on every robot).
 STILL_TOLERANCE = 1e-12
 
 

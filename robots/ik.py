@@ -307,10 +307,10 @@ def solve_ik(
         abandon_stalled: Give up a random restart that stalls: its error (the norm of the
             residual, [m] and [rad or -] together) still above 0.01 and less than 1 % below
             its value 10 iterations before, in either stage. Such starts mostly creep along the
-            joint limits for many iterations and then fail, so this saves about half of the
-            iterations when many solutions are wanted (on Sawyer pool shots about 1 stalled
-            start in 400 would have converged); a robot whose solutions lie behind plateaus
-            (youBot) loses some. The first attempt, from ``q_near``, is never given up.
+            joint limits for many iterations and then fail, so this saves iterations when many
+            solutions are wanted, at the price of the rare stalled start that would have
+            converged; a robot whose solutions lie behind plateaus (youBot) loses some. The
+            first attempt, from ``q_near``, is never given up.
 
     Returns:
         The solution, within the joint limits.

@@ -359,8 +359,8 @@ def test_bad_constraint_rows_are_refused():
 
 def test_a_robot_that_is_not_a_robot_and_constraints_that_are_no_list_are_refused():
     with pytest.raises(InvalidInputError, match=r"robot must be a robots\.Robot"):
-        DiffIKQP("sawyer")  # was an AttributeError
+        DiffIKQP("sawyer")  # not an AttributeError
     with pytest.raises(InvalidInputError, match="constraints must be a list or tuple"):
-        DiffIKQP(get_robot("paddle4"), constraints=5)  # was a TypeError
+        DiffIKQP(get_robot("paddle4"), constraints=5)  # not a TypeError
     with pytest.raises(InvalidInputError, match="posture_weight must be a numeric"):
         DiffIKQP(get_robot("paddle4"), posture_weight=True)

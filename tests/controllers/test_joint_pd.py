@@ -96,4 +96,4 @@ def test_gain_errors():
 
 def test_a_robot_that_is_not_a_robot_is_refused():
     with pytest.raises(InvalidInputError, match=r"robot must be a robots\.Robot"):
-        JointPD("sawyer")  # was an AttributeError on .dof
+        JointPD("sawyer")  # not an AttributeError on .dof

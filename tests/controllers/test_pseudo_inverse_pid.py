@@ -238,6 +238,6 @@ def test_a_damping_lost_in_round_off_or_overflowing_is_refused(damping, match):
 
 def test_a_robot_that_is_not_a_robot_or_a_string_damping_is_refused():
     with pytest.raises(InvalidInputError, match=r"robot must be a robots\.Robot"):
-        PseudoInversePID(None)  # was accepted, then an AttributeError at the first step
+        PseudoInversePID(None)  # refused when built, not at the first step
     with pytest.raises(InvalidInputError, match="damping must be a numeric"):
         PseudoInversePID(get_robot("sawyer"), damping="0.1")

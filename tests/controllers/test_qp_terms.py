@@ -203,6 +203,6 @@ def test_combine_rejects_bad_pieces():
     ],
 )
 def test_combine_refuses_pieces_of_the_wrong_kind(arguments, match):
-    # These were AttributeErrors (.c, .lower) or a TypeError (iterating 5).
+    # A typed error, not an AttributeError (.c, .lower) or a TypeError (iterating 5).
     with pytest.raises(InvalidInputError, match=match):
         combine(*arguments)

@@ -284,7 +284,7 @@ def test_bad_arguments_are_refused(shot, nominal):
 @pytest.mark.parametrize(
     ("options", "match"),
     [
-        ({"dt": 1e-300}, r"dt must be >= 1e-06 s, got 1e-300 s"),  # was a 1e300-step array
+        ({"dt": 1e-300}, r"dt must be >= 1e-06 s, got 1e-300 s"),  # not a 1e300-step array
         ({"dt": True}, "dt must be a numeric"),
         ({"settle": 1e300}, r"settle must be <= 86400 s"),
         ({"settle": "0.1"}, "settle must be a numeric"),
@@ -302,7 +302,7 @@ def test_bad_numbers_are_refused_before_anything_is_allocated(shot, nominal, opt
 def test_a_robot_that_is_not_a_robot_is_refused(shot, nominal):
     pd = controllers.JointPD(shot.robot)
     with pytest.raises(InvalidInputError, match=r"robot must be a robots\.Robot"):
-        simulate("sawyer", nominal, pd)  # was an AttributeError on .fingerprint
+        simulate("sawyer", nominal, pd)  # not an AttributeError on .fingerprint
 
 
 @pytest.mark.parametrize(

@@ -319,7 +319,7 @@ PLAN = ["plan", "sawyer", "--problem", "pool-shot", "--planner"]
          "--limit-scale must be in [1e-06, 1], got 1e-300"),
         (["plan", "sawyer", "--problem", "point-to-point", "--planner", "cubic", "--q-goal", "0",
           "0", "0", "0", "0", "0", "0", "--duration", "1e200"],
-         "--duration must be <= 86400 s, got 1e+200 s"),  # was an OverflowError
+         "--duration must be <= 86400 s, got 1e+200 s"),  # not an OverflowError
         (["plan", "sawyer", "--problem", "point-to-point", "--planner", "cubic", "--q-goal",
           "nan", "0", "0", "0", "0", "0", "0"], "--q-goal must be finite"),
         (["plan", "sawyer", "--problem", "point-to-point", "--planner", "cubic", "--q-goal",
@@ -408,7 +408,7 @@ def test_check_refuses_a_bad_rate_and_an_oversized_file(tmp_path, monkeypatch, c
     monkeypatch.chdir(tmp_path)
     _point_to_point_file(Path("t.json"))
     assert main(["check", "t.json"], out=io.StringIO()) == 0
-    assert main(["check", "t.json", "--rate", "1e300"], out=io.StringIO()) == 2  # was a traceback
+    assert main(["check", "t.json", "--rate", "1e300"], out=io.StringIO()) == 2  # not a traceback
     assert _error_line(capsys) == "optraj: error: --rate must be <= 1e+06 Hz, got 1e+300 Hz"
     monkeypatch.setattr(planners.trajectory, "MAX_JSON_BYTES", 1000)
     assert main(["check", "t.json"], out=io.StringIO()) == 2

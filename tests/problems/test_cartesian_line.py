@@ -35,7 +35,7 @@ def test_unreachable_goal_and_inconsistent_start_are_errors():
         CartesianLine(robot, np.diag([1.0, 1.0, -1.0, 1.0]), start)
     with pytest.raises(InvalidInputError, match="speed must be > 0"):
         CartesianLine(robot, start, start, q_start=robot.home, speed=0.0)
-    # issue 32, defect 6: extreme values are refused with their bound and unit
+    # Extreme values are refused with their bound and unit.
     with pytest.raises(InvalidInputError, match="speed must be <= 343 m/s"):
         CartesianLine(robot, start, start, q_start=robot.home, speed=1e308)
     with pytest.raises(InvalidInputError, match="duration must be >= 1e-06 s"):
@@ -45,7 +45,7 @@ def test_unreachable_goal_and_inconsistent_start_are_errors():
 
 
 def test_a_still_line_is_valid_and_refused_only_at_planning_time():
-    # issue 32, defect 8: the rule of PointToPoint for a tool line
+    # The rule of PointToPoint, for a tool line.
     robot = get_robot("sawyer")
     start = robot.tool_pose(robot.home)
     line = CartesianLine(robot, start, start.copy(), q_start=robot.home)

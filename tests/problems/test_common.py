@@ -28,7 +28,7 @@ def test_unit_vector_and_numbers():
 
 @pytest.mark.parametrize("value", ["2", True, None])
 def test_numbers_are_numbers(value):
-    # issue 32, defect 6: the problems' checks are optraj.validation's (no bool or string)
+    # The problems' checks are optraj.validation's (no bool or string).
     for check in (positive, non_negative):
         with pytest.raises(InvalidInputError, match="x must be a numeric"):
             check(value, "x", "m")

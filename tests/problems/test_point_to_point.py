@@ -35,7 +35,7 @@ def test_defaults_are_rest_and_constraints_are_the_two_states():
         ({"q_goal": [0.5, np.nan, 0, 0]}, InvalidInputError, "finite"),
         ({"q_goal": [0.5, 0.0]}, InvalidInputError, r"shape \(4,\)"),
         ({"duration": 0.0}, InvalidInputError, "duration must be >= 1e-06 s, got 0 s"),
-        # issue 32, defect 6: no text, no extreme durations, no missing positions
+        # No text, no extreme durations, no missing positions.
         ({"duration": "2"}, InvalidInputError, "duration must be a numeric"),
         ({"duration": 1e200}, InvalidInputError, "duration must be <= 86400 s, got 1e[+]200 s"),
         ({"duration": 1e-200}, InvalidInputError, "duration must be >= 1e-06 s"),
@@ -79,8 +79,8 @@ _HOLDS = ("cubic", "quintic", "lspb", "ruckig")  # the planners that take a dura
 @pytest.mark.parametrize("name", list(_PLANNERS))
 @pytest.mark.parametrize("offset", [0.0, 1e-13, 0.9 * STILL_TOLERANCE])
 def test_every_planner_refuses_a_still_move_without_a_duration(name, offset):
-    # One rule (issue 32, defect 8): Cubic and Quintic returned an 8.7e-22 s trajectory,
-    # LSPB refused only an exactly equal goal, Toppra refused with its own message.
+    # One rule for every planner, with one message: a still move needs a duration (no
+    # trajectory of a vanishing length, and not only an exactly equal goal is still).
     robot = get_robot("sawyer")
     problem = PointToPoint(robot, robot.home, robot.home + offset)  # valid when built
     assert problem.still

@@ -35,7 +35,7 @@ def test_geometry_and_timing_of_the_strike():
     ("kwargs", "error", "match"),
     [
         ({"speed": 0.0}, InvalidInputError, "speed must be > 0 m/s"),
-        # issue 32, defect 6: a speed of 1e308 m/s overflowed the maths; text is no number
+        # A speed of 1e308 m/s is refused before it overflows the maths; text is no number.
         ({"speed": 1e308}, InvalidInputError, "speed must be <= 343 m/s, got 1e[+]308 m/s"),
         ({"speed": "1.0"}, InvalidInputError, "speed must be a numeric"),
         ({"speed": True}, InvalidInputError, "speed must be a numeric"),

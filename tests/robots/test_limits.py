@@ -151,8 +151,8 @@ def test_scaled_limits_scale_only_the_chosen_quantities():
 
 @pytest.mark.parametrize("quantities", ["velocity", 5])
 def test_scaled_takes_a_tuple_of_quantity_names(quantities):
-    # A bare name was taken letter by letter ("unknown scalable limit 'v'"), a number was a
-    # TypeError.
+    # A bare name is refused, not taken letter by letter ("unknown scalable limit 'v'"), and
+    # a number with a typed error, not a TypeError.
     limits = robots.load("sawyer").limits
     with pytest.raises(InvalidInputError, match=r"quantities must be a tuple of names"):
         limits.scaled(0.5, quantities)
