@@ -12,7 +12,7 @@ target only the first three rows are used.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -170,10 +170,11 @@ def _checked_target(
     return _target_position(transform[:3, 3], "target"), transform[:3, :3].copy(), None
 
 
+@dataclass
 class _Search:
     """The attempts of one :func:`solve_ik` call: the first, then random restarts.
 
-    Args:
+    Attributes:
         problem: The target's pose error.
         locate: Its position-only error, for the first stage of a random full-pose (or
             position and axis) attempt; None for a position target.
@@ -182,28 +183,19 @@ class _Search:
         stall: Whether random restarts that stall are given up.
         min_solutions: Distinct solutions wanted.
         restarts: Most random restarts.
+        attempts: Every attempt so far, in order.
+        found: The distinct converged ones among them.
     """
 
-    def __init__(
-        self,
-        problem: PoseError,
-        locate: PoseError | None,
-        tolerance: float,
-        max_iterations: int,
-        stall: bool,
-        min_solutions: int,
-        restarts: int,
-    ) -> None:
-        """Set up an empty search (see the class docstring)."""
-        self.problem = problem
-        self.locate = locate
-        self.tolerance = tolerance
-        self.max_iterations = max_iterations
-        self.stall = stall
-        self.min_solutions = min_solutions
-        self.restarts = restarts
-        self.attempts: list[Attempt] = []
-        self.found: list[Attempt] = []
+    problem: PoseError
+    locate: PoseError | None
+    tolerance: float
+    max_iterations: int
+    stall: bool
+    min_solutions: int
+    restarts: int
+    attempts: list[Attempt] = field(default_factory=list)
+    found: list[Attempt] = field(default_factory=list)
 
     def keep(self, attempt: Attempt) -> bool:
         """Record an attempt; whether the search is over."""

@@ -48,8 +48,7 @@ def test_step_is_minimum_norm_least_squares_of_twist(name):
         assert isinstance(command, Command)
         assert command.status == "ok"
         assert not command.fallback
-        expected = _minimum_norm(robot, q, twist)
-        np.testing.assert_allclose(command.qd, expected, rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(command.qd, _minimum_norm(robot, q, twist), rtol=1e-9, atol=1e-9)
 
 
 @pytest.mark.parametrize("name", ["sawyer", "paddle4"])
@@ -67,8 +66,7 @@ def test_step_includes_proportional_term(name):
         twist = rng.normal(size=6)
         command = controller.step(_state(q), _reference(T_desired, twist, robot.dof), DT)
         v = twist + np.concatenate([4.0 * offset, 9.0 * turn])
-        expected = _minimum_norm(robot, q, v)
-        np.testing.assert_allclose(command.qd, expected, rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(command.qd, _minimum_norm(robot, q, v), rtol=1e-9, atol=1e-9)
 
 
 @pytest.mark.parametrize("name", ["sawyer", "paddle4"])
@@ -88,15 +86,20 @@ def test_damped_step_equals_svd_formula(name):
         assert np.linalg.norm(command.qd) < np.linalg.norm(plain)
 
 
-def test_axis_task_reproduces_twist_except_about_tool_axis():
+def _axis_task_steps(seed, count):
+    """Sawyer's axis-task steps from random inner configurations: (robot, q, T, twist, command)."""
     robot = get_robot("sawyer")
-    rng = np.random.default_rng(34)
+    rng = np.random.default_rng(seed)
     controller = PseudoInversePID(robot, ki=0.0, task="axis")
-    for q in _inner_configurations(robot, 10, rng):
+    for q in _inner_configurations(robot, count, rng):
         T = robot.tool_pose(q)
-        z = T[:3, 2]
         twist = rng.normal(size=6)
-        command = controller.step(_state(q), _reference(T, twist, robot.dof), DT)
+        yield robot, q, T, twist, controller.step(_state(q), _reference(T, twist, robot.dof), DT)
+
+
+def test_axis_task_reproduces_twist_except_about_tool_axis():
+    for robot, q, T, twist, command in _axis_task_steps(34, 10):
+        z = T[:3, 2]
         achieved = robot.jacobian(q) @ command.qd
         np.testing.assert_allclose(achieved[:3], twist[:3], rtol=0, atol=1e-9)
         np.testing.assert_allclose(
@@ -108,13 +111,7 @@ def test_axis_task_reproduces_twist_except_about_tool_axis():
 
 
 def test_axis_task_is_minimum_norm_solution_of_five_rows():
-    robot = get_robot("sawyer")
-    rng = np.random.default_rng(35)
-    controller = PseudoInversePID(robot, ki=0.0, task="axis")
-    for q in _inner_configurations(robot, 5, rng):
-        T = robot.tool_pose(q)
-        twist = rng.normal(size=6)
-        command = controller.step(_state(q), _reference(T, twist, robot.dof), DT)
+    for robot, q, T, twist, command in _axis_task_steps(35, 5):
         # Independent basis of the plane normal to z: the tool x and y axes.
         basis = T[:3, :2].T
         J = robot.jacobian(q)
