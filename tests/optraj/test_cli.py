@@ -415,12 +415,12 @@ def test_check_refuses_a_bad_rate_and_an_oversized_file(tmp_path, monkeypatch, c
     assert "bytes, more than the 1000 bytes of any trajectory file" in _error_line(capsys)
 
 
-def test_an_os_error_in_a_command_exits_2_with_one_line(monkeypatch, capsys):
-    def denied(args, out):
-        raise PermissionError(13, "Permission denied", "/some/file")
+def test_an_os_error_in_a_command_exits_2_with_one_line(capsys):
+    class Denied(io.StringIO):
+        def write(self, text):
+            raise PermissionError(13, "Permission denied", "/some/file")
 
-    monkeypatch.setattr(optraj.cli, "_cmd_robots", denied)
-    assert main(["robots"], out=io.StringIO()) == 2
+    assert main(["robots"], out=Denied()) == 2
     assert _error_line(capsys) == "optraj: error: cannot use '/some/file': Permission denied"
 
 
