@@ -18,7 +18,7 @@ import pinocchio as pin
 from numpy.typing import NDArray
 
 from optraj.errors import InvalidInputError, MissingDependencyError
-from optraj.planners.trajectory import Trajectory
+from optraj.planners.trajectory import Trajectory, TrajectorySample
 from optraj.robots import JointLimits, Robot
 from optraj.validation import as_choice, as_count
 
@@ -54,7 +54,7 @@ def _named(trajectories: Trajectory | Mapping[str, Trajectory]) -> dict[str, Tra
     )
 
 
-def _samples(trajectory: Trajectory, rate: float) -> Any:
+def _samples(trajectory: Trajectory, rate: float) -> TrajectorySample:
     return trajectory.sample(trajectory.times(rate))
 
 
@@ -92,6 +92,24 @@ def plot_profiles(
                 f"trajectory {label!r} has {trajectory.dof} joints, the limits {limits.n}",
                 name="trajectories",
             )
+    wanted = _quantities(quantities)
+    samples = {label: _samples(t, rate) for label, t in named.items()}
+    joint = _joint(joint, samples, limits)
+    plt = pyplot()
+    figure, axes = plt.subplots(
+        len(wanted), 1, sharex=True, figsize=(8.0, 2.2 * len(wanted)), constrained_layout=True
+    )
+    axes = np.atleast_1d(axes)
+    for ax, quantity in zip(axes, wanted, strict=True):
+        _panel(ax, quantity, samples, limits, joint)
+    axes[0].set_title(f"joint {limits.names[joint]!r} (dashed: its limits)")
+    axes[0].legend(loc="best", fontsize="small")
+    axes[-1].set_xlabel("time [s]")
+    return figure
+
+
+def _quantities(quantities: Sequence[str]) -> list[str]:
+    """The panels asked for, each a known quantity, in order."""
     if isinstance(quantities, str):  # would be iterated letter by letter
         raise InvalidInputError(
             f"quantities must be a sequence of names, got {quantities!r}; "
@@ -101,34 +119,35 @@ def plot_profiles(
     wanted = list(quantities)
     for quantity in wanted:
         as_choice(quantity, "plotted quantity", _QUANTITIES)
-    samples = {label: _samples(t, rate) for label, t in named.items()}
+    return wanted
+
+
+def _joint(joint: int | None, samples: Mapping[str, TrajectorySample], limits: JointLimits) -> int:
+    """The joint index asked for, checked; when None, the one nearest its velocity limit."""
     if joint is None:
         ratios = [np.max(np.abs(s.qd), axis=0) / limits.velocity for s in samples.values()]
-        joint = int(np.argmax(np.max(ratios, axis=0)))
-    elif isinstance(joint, bool) or not isinstance(joint, (int, np.integer)):
+        return int(np.argmax(np.max(ratios, axis=0)))
+    if isinstance(joint, bool) or not isinstance(joint, (int, np.integer)):
         raise InvalidInputError(f"joint must be an integer index, got {joint!r}", name="joint")
-    elif not 0 <= joint < limits.n:
+    if not 0 <= joint < limits.n:
         raise InvalidInputError(f"joint must be in [0, {limits.n - 1}], got {joint}", name="joint")
-    plt = pyplot()
-    figure, axes = plt.subplots(
-        len(wanted), 1, sharex=True, figsize=(8.0, 2.2 * len(wanted)), constrained_layout=True
-    )
-    axes = np.atleast_1d(axes)
-    for ax, quantity in zip(axes, wanted, strict=True):
-        for label, sample in samples.items():
-            ax.plot(sample.t, getattr(sample, _FIELD[quantity])[:, joint], label=label)
-        if quantity == "position":
-            bounds = (limits.lower[joint], limits.upper[joint])
-        else:
-            value = getattr(limits, _LIMIT[quantity])[joint]
-            bounds = (-value, value)
-        for bound in bounds:
-            ax.axhline(bound, color="k", linestyle="--", linewidth=0.8)
-        ax.set_ylabel(f"{quantity} [{limits.unit(quantity, joint)}]")
-    axes[0].set_title(f"joint {limits.names[joint]!r} (dashed: its limits)")
-    axes[0].legend(loc="best", fontsize="small")
-    axes[-1].set_xlabel("time [s]")
-    return figure
+    return joint
+
+
+def _panel(
+    ax: Any, quantity: str, samples: Mapping[str, TrajectorySample], limits: JointLimits, joint: int
+) -> None:
+    """One quantity of one joint in every sample, its limits dashed."""
+    for label, sample in samples.items():
+        ax.plot(sample.t, getattr(sample, _FIELD[quantity])[:, joint], label=label)
+    if quantity == "position":
+        bounds = (limits.lower[joint], limits.upper[joint])
+    else:
+        value = getattr(limits, _LIMIT[quantity])[joint]
+        bounds = (-value, value)
+    for bound in bounds:
+        ax.axhline(bound, color="k", linestyle="--", linewidth=0.8)
+    ax.set_ylabel(f"{quantity} [{limits.unit(quantity, joint)}]")
 
 
 def plot_tool_speed(

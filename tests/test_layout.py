@@ -197,7 +197,6 @@ REMAINING: dict[str, list[str]] = {
         "module of 1746 lines > 600",
         "function _solve of 87 code lines > 80",
     ],
-    "planners/trajectory.py": ["module of 881 lines > 600", "class Trajectory of 637 lines > 400"],
 }
 
 

@@ -8,6 +8,7 @@ from conftest import get_robot
 
 from optraj import planners, problems
 from optraj.errors import InvalidInputError, UnknownNameError
+from optraj.planners import plot
 
 matplotlib = pytest.importorskip("matplotlib")  # optraj[examples]
 matplotlib.use("Agg")  # headless; plotting imports pyplot only when called
@@ -22,7 +23,7 @@ def moves():
 
 def test_profiles_draw_each_plan_against_the_limits_of_the_busiest_joint(moves):
     robot, plans = moves
-    figure = planners.plot.plot_profiles(plans, robot.limits)
+    figure = plot.plot_profiles(plans, robot.limits)
     axes = figure.axes
     assert [ax.get_ylabel().split(" [")[0] for ax in axes] == [
         "position",
@@ -49,7 +50,7 @@ def test_profiles_draw_each_plan_against_the_limits_of_the_busiest_joint(moves):
 
 def test_tool_speed_and_stick_figures(moves):
     robot, plans = moves
-    figure = planners.plot.plot_tool_speed(robot, plans["ruckig"])
+    figure = plot.plot_tool_speed(robot, plans["ruckig"])
     (ax,) = figure.axes
     line = ax.lines[0]
     t = line.get_xdata()
@@ -58,7 +59,7 @@ def test_tool_speed_and_stick_figures(moves):
         np.einsum("mij,mj->mi", robot.jacobian(sample.q)[:, :3], sample.qd), axis=1
     )
     np.testing.assert_allclose(line.get_ydata(), expected, atol=1e-12)
-    figure = planners.plot.plot_robot(robot, plans["cubic"], count=3)
+    figure = plot.plot_robot(robot, plans["cubic"], count=3)
     sticks = [line for line in figure.axes[0].lines if line.get_marker() == "o"]
     assert len(sticks) == 3
     # The last point of each stick figure is the tool frame origin.
@@ -70,15 +71,15 @@ def test_tool_speed_and_stick_figures(moves):
 def test_planner_plots_reject_bad_arguments(moves):
     robot, plans = moves
     with pytest.raises(InvalidInputError, match="trajectories must be"):
-        planners.plot.plot_profiles({}, robot.limits)
+        plot.plot_profiles({}, robot.limits)
     with pytest.raises(InvalidInputError, match="joint must be in"):
-        planners.plot.plot_profiles(plans, robot.limits, joint=7)
+        plot.plot_profiles(plans, robot.limits, joint=7)
     with pytest.raises(UnknownNameError, match="quantity"):
-        planners.plot.plot_profiles(plans, robot.limits, quantities=["torque"])
+        plot.plot_profiles(plans, robot.limits, quantities=["torque"])
     with pytest.raises(InvalidInputError, match="has 7 joints"):
-        planners.plot.plot_profiles(plans, get_robot("paddle4").limits)
+        plot.plot_profiles(plans, get_robot("paddle4").limits)
     with pytest.raises(InvalidInputError, match="count must be"):
-        planners.plot.plot_robot(robot, plans["cubic"], count=1)
+        plot.plot_robot(robot, plans["cubic"], count=1)
 
 
 def test_counts_and_names_are_checked():
@@ -86,6 +87,6 @@ def test_counts_and_names_are_checked():
     robot = get_robot("paddle4")
     traj = planners.Cubic().plan(problems.PointToPoint(robot, robot.home, [0.5, 0.1, 0.2, 0.0]))
     with pytest.raises(InvalidInputError, match="quantities must be a sequence of names"):
-        planners.plot.plot_profiles(traj, robot.limits, quantities="velocity")
+        plot.plot_profiles(traj, robot.limits, quantities="velocity")
     with pytest.raises(InvalidInputError, match="count must be an integer <= 1000"):
-        planners.plot.plot_robot(robot, traj, count=10**6)
+        plot.plot_robot(robot, traj, count=10**6)
