@@ -24,7 +24,7 @@ effort limit (to hold the arm against gravity, say) refuses the whole motion bef
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, TypedDict, Unpack
 
 import numpy as np
 import ruckig
@@ -32,41 +32,34 @@ from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError
 from optraj.planners.checker import round_off
-from optraj.planners.time_optimal.ruckig_planner import (
-    calculate,
-    check_state,
+from optraj.planners.time_optimal.ruckig_calculation import calculate, ruckig_input
+from optraj.planners.time_optimal.ruckig_validation import (
+    check_boundary_states,
     checked_limits,
-    ruckig_input,
     state_or_zeros,
 )
 from optraj.problems import PointToPoint
 from optraj.robots import JointLimits, Robot
 from optraj.validation import as_array, as_vector, ndim_of
 
-__all__ = ["check_state_torques", "joint_min_durations", "lower_bound", "lower_bound_va"]
+__all__ = [
+    "MoveStates",
+    "check_state_torques",
+    "joint_min_durations",
+    "lower_bound",
+    "lower_bound_va",
+]
 
 FloatArray = NDArray[np.float64]
 
 
-def joint_min_durations(
-    problem: PointToPoint | None = None,
-    *,
-    q_start: ArrayLike | None = None,
-    q_goal: ArrayLike | None = None,
-    qd_start: ArrayLike | None = None,
-    qd_goal: ArrayLike | None = None,
-    qdd_start: ArrayLike | None = None,
-    qdd_goal: ArrayLike | None = None,
-    limits: JointLimits | None = None,
-) -> FloatArray:
-    """Each joint's own minimum time for the move under its velocity/acceleration/jerk limits.
+class MoveStates(TypedDict, total=False):
+    """The keyword form of a move for :func:`joint_min_durations` and :func:`lower_bound`.
 
-    Give either a :class:`problems.PointToPoint` (its states and limits are used) or the
-    keyword form (``q_start``, ``q_goal`` and ``limits`` required; velocities and
-    accelerations default to zero).
+    ``q_start``, ``q_goal`` and ``limits`` are required; velocities and accelerations
+    default to zero (None is the same as leaving one out).
 
-    Args:
-        problem: The move, or None for the keyword form.
+    Attributes:
         q_start: Start positions [rad or m], shape (n,).
         q_goal: Goal positions [rad or m], shape (n,).
         qd_start: Start velocities [rad/s or m/s], shape (n,); rest when None.
@@ -74,6 +67,36 @@ def joint_min_durations(
         qdd_start: Start accelerations [rad/s^2 or m/s^2], shape (n,); zero when None.
         qdd_goal: Goal accelerations [rad/s^2 or m/s^2], shape (n,); zero when None.
         limits: Joint limits (velocity, acceleration, jerk).
+    """
+
+    q_start: ArrayLike | None
+    q_goal: ArrayLike | None
+    qd_start: ArrayLike | None
+    qd_goal: ArrayLike | None
+    qdd_start: ArrayLike | None
+    qdd_goal: ArrayLike | None
+    limits: JointLimits | None
+
+
+#: The fields of :class:`MoveStates`, in the order they are validated.
+_FIELDS = ("q_start", "q_goal", "qd_start", "qd_goal", "qdd_start", "qdd_goal", "limits")
+
+
+def joint_min_durations(
+    problem: PointToPoint | None = None, **move: Unpack[MoveStates]
+) -> FloatArray:
+    """Each joint's own minimum time for the move under its velocity/acceleration/jerk limits.
+
+    Give either a :class:`problems.PointToPoint` (its states and limits are used) or the
+    keyword form of :class:`MoveStates` (``q_start``, ``q_goal`` and ``limits`` required;
+    velocities and accelerations default to zero)::
+
+        joint_min_durations(problem)
+        joint_min_durations(q_start=q0, q_goal=q1, limits=robot.limits)
+
+    Args:
+        problem: The move, or None for the keyword form.
+        **move: The keyword form, :class:`MoveStates`.
 
     Returns:
         Minimum durations [s], shape (n,); 0 for a joint already in its goal state.
@@ -83,44 +106,9 @@ def joint_min_durations(
         InfeasibleError: A start or goal state no motion within the limits can leave or
             reach (names the joint).
         SolverError: Ruckig fails; carries its status.
+        TypeError: A keyword that is not a field of :class:`MoveStates`.
     """
-    keywords: dict[str, Any] = {
-        "q_start": q_start,
-        "q_goal": q_goal,
-        "qd_start": qd_start,
-        "qd_goal": qd_goal,
-        "qdd_start": qdd_start,
-        "qdd_goal": qdd_goal,
-        "limits": limits,
-    }
-    if problem is not None:
-        if not isinstance(problem, PointToPoint):
-            raise InvalidInputError(
-                f"the lower bound is for a problems.PointToPoint, got {type(problem).__name__}",
-                name="problem",
-            )
-        given = [name for name, value in keywords.items() if value is not None]
-        if given:
-            raise InvalidInputError(
-                f"give a problem or keyword arguments, not both (got {', '.join(given)})",
-                name=given[0],
-            )
-        keywords = {
-            "q_start": problem.q_start,
-            "q_goal": problem.q_goal,
-            "qd_start": problem.qd_start,
-            "qd_goal": problem.qd_goal,
-            "qdd_start": problem.qdd_start,
-            "qdd_goal": problem.qdd_goal,
-            "limits": problem.limits,
-        }
-    missing = [name for name in ("q_start", "q_goal", "limits") if keywords[name] is None]
-    if missing:
-        raise InvalidInputError(
-            f"the lower bound needs a PointToPoint or q_start, q_goal and limits; missing "
-            f"{', '.join(missing)}",
-            name=missing[0],
-        )
+    keywords = _keyword_form(problem, move)
     box = checked_limits(keywords["limits"])
     n = box.n
     q0 = as_vector(keywords["q_start"], "q_start", n)
@@ -129,8 +117,7 @@ def joint_min_durations(
     v1 = state_or_zeros(keywords["qd_goal"], "qd_goal", n)
     a0 = state_or_zeros(keywords["qdd_start"], "qdd_start", n)
     a1 = state_or_zeros(keywords["qdd_goal"], "qdd_goal", n)
-    check_state(v0, a0, box, "start", arriving=False)
-    check_state(v1, a1, box, "target", arriving=True)
+    check_boundary_states(box, (v0, a0), (v1, a1))
     inp = ruckig_input(
         box,
         q0,
@@ -143,17 +130,41 @@ def joint_min_durations(
     return np.asarray(native.independent_min_durations, dtype=float)
 
 
-def lower_bound(
-    problem: PointToPoint | None = None,
-    *,
-    q_start: ArrayLike | None = None,
-    q_goal: ArrayLike | None = None,
-    qd_start: ArrayLike | None = None,
-    qd_goal: ArrayLike | None = None,
-    qdd_start: ArrayLike | None = None,
-    qdd_goal: ArrayLike | None = None,
-    limits: JointLimits | None = None,
-) -> float:
+def _keyword_form(problem: PointToPoint | None, move: MoveStates) -> dict[str, Any]:
+    """Every field of :class:`MoveStates`, from the problem or from the keywords given.
+
+    Raises:
+        TypeError: A keyword that is not a field (as Python raises for a signature).
+        InvalidInputError: Both or neither form, or a required field missing.
+    """
+    unknown = [name for name in move if name not in _FIELDS]
+    if unknown:
+        raise TypeError(f"unexpected keyword argument {unknown[0]!r}")
+    keywords: dict[str, Any] = {name: move.get(name) for name in _FIELDS}
+    if problem is not None:
+        if not isinstance(problem, PointToPoint):
+            raise InvalidInputError(
+                f"the lower bound is for a problems.PointToPoint, got {type(problem).__name__}",
+                name="problem",
+            )
+        given = [name for name, value in keywords.items() if value is not None]
+        if given:
+            raise InvalidInputError(
+                f"give a problem or keyword arguments, not both (got {', '.join(given)})",
+                name=given[0],
+            )
+        keywords = {name: getattr(problem, name) for name in _FIELDS}
+    missing = [name for name in ("q_start", "q_goal", "limits") if keywords[name] is None]
+    if missing:
+        raise InvalidInputError(
+            f"the lower bound needs a PointToPoint or q_start, q_goal and limits; missing "
+            f"{', '.join(missing)}",
+            name=missing[0],
+        )
+    return keywords
+
+
+def lower_bound(problem: PointToPoint | None = None, **move: Unpack[MoveStates]) -> float:
     """The time [s] no trajectory within the joints' box limits can beat for this move.
 
     The largest of :func:`joint_min_durations`: each joint's exact minimum time under its
@@ -161,13 +172,7 @@ def lower_bound(
 
     Args:
         problem: A :class:`problems.PointToPoint`, or None for the keyword form.
-        q_start: Start positions [rad or m], shape (n,).
-        q_goal: Goal positions [rad or m], shape (n,).
-        qd_start: Start velocities [rad/s or m/s], shape (n,); rest when None.
-        qd_goal: Goal velocities [rad/s or m/s], shape (n,); rest when None.
-        qdd_start: Start accelerations [rad/s^2 or m/s^2], shape (n,); zero when None.
-        qdd_goal: Goal accelerations [rad/s^2 or m/s^2], shape (n,); zero when None.
-        limits: Joint limits (velocity, acceleration, jerk).
+        **move: The keyword form, :class:`MoveStates`.
 
     Returns:
         The bound [s], >= 0 (0 when every joint is already in its goal state).
@@ -175,17 +180,7 @@ def lower_bound(
     Raises:
         See :func:`joint_min_durations`.
     """
-    durations = joint_min_durations(
-        problem,
-        q_start=q_start,
-        q_goal=q_goal,
-        qd_start=qd_start,
-        qd_goal=qd_goal,
-        qdd_start=qdd_start,
-        qdd_goal=qdd_goal,
-        limits=limits,
-    )
-    return float(np.max(durations))
+    return float(np.max(joint_min_durations(problem, **move)))
 
 
 def check_state_torques(
@@ -226,14 +221,14 @@ def check_state_torques(
             worst = (float(ratio[joint]), str(what), joint, float(tau[joint]))
     if worst is None:
         return
-    ratio, what, joint, torque = worst
+    share, what, joint, torque = worst
     name, allowed = limits.names[joint], float(limits.effort[joint])
     unit = limits.unit("effort", joint)
     raise InfeasibleError(
-        f"{what} needs joint {name!r} at {abs(torque):.4g} {unit}, {100.0 * ratio:.1f} % of its "
+        f"{what} needs joint {name!r} at {abs(torque):.4g} {unit}, {100.0 * share:.1f} % of its "
         f"effort limit {allowed:.4g} {unit}, whatever the motion through it (a prescribed "
         f"state's torques are its inverse dynamics): a plan needs effort limits at least "
-        f"{ratio:.4g} times as large, or another state",
+        f"{share:.4g} times as large, or another state",
         limit="effort",
         joint=name,
         required=abs(torque),
