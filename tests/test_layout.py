@@ -193,10 +193,6 @@ REMAINING: dict[str, list[str]] = {
         "module of 1276 lines > 600",
         "function _move of 86 code lines > 80",
     ],
-    "planners/time_optimal/toppra_planner.py": [
-        "module of 1746 lines > 600",
-        "function _solve of 87 code lines > 80",
-    ],
     "planners/trajectory.py": ["module of 881 lines > 600", "class Trajectory of 637 lines > 400"],
 }
 
