@@ -35,7 +35,7 @@ def test_pchip_slopes_near_zero_stay_finite_without_overflow_warnings():
 
     waypoints = np.array([[0.0, 0.0], [1.0, 1e-310], [2.0, 2e-310], [3.0, 0.5]])
     with warnings.catch_warnings():
-        warnings.simplefilter("error")  # the overflow in the slopes' mean was a RuntimeWarning
+        warnings.simplefilter("error")  # an overflow in the slopes' mean would warn
         path = GeometricPath.pchip(waypoints)
     assert np.all(np.isfinite(path.coefficients))
 

@@ -274,7 +274,7 @@ def test_importing_the_module_does_not_import_toppra():
 
 
 def test_numbers_in_range():
-    # issue 32, defect 6: a tool speed or path velocity of 1e308 overflowed the solve
+    # a tool speed or path velocity of 1e308 would overflow the solve
     with pytest.raises(InvalidInputError, match="tool_speed must be <= 343 m/s"):
         Toppra(tool_speed=1e308)
     with pytest.raises(InvalidInputError, match=r"start_path_velocity must be <= 1e\+08"):

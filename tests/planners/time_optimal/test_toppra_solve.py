@@ -35,8 +35,8 @@ def test_path_with_stops_and_a_dwell_is_retimed_without_a_large_slowdown():
 
 @pytest.mark.parametrize("size", [2e-12, 1e-11, 1e-10, 1e-9, 3e-9, 1e-7])
 def test_tiny_moves_are_feasible(size):
-    # issue 32, defect 8: toppra's absolute tolerances called the controllable set of these
-    # moves empty; the path is now solved in a parameter at least one unit long.
+    # toppra's absolute tolerances would call the controllable set of these moves empty;
+    # a short path is solved in a stretched parameter (toppra_grid.stretch_factor).
     robot = get_robot("sawyer")
     q1 = robot.home.copy()
     q1[0] += size
