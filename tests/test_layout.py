@@ -189,10 +189,6 @@ REMAINING: dict[str, list[str]] = {
         "function _lspb_issues of 92 code lines > 80",
     ],
     "planners/strike/contact.py": ["module of 1083 lines > 600"],
-    "planners/time_optimal/toppra_planner.py": [
-        "module of 1746 lines > 600",
-        "function _solve of 87 code lines > 80",
-    ],
 }
 
 

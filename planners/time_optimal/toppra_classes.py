@@ -1,10 +1,10 @@
 """Classes derived from toppra's, for :class:`optraj.planners.Toppra`.
 
-Imported on the first TOPPRA plan (importing toppra imports matplotlib.pyplot and scipy,
-about 0.7 s): the Seidel solver set up without toppra's solver probe, a piecewise polynomial
-path, speed caps that hold between gridpoints, acceleration and torque rows with left limits
-at curvature jumps, and toppra's constant-acceleration output with its times from NumPy.
-They are plain module classes, so trajectories that hold them pickle.
+Imported on the first TOPPRA plan, not with :mod:`optraj.planners` (importing toppra imports
+matplotlib.pyplot and scipy): the Seidel solver set up without toppra's solver probe, a
+piecewise polynomial path, speed caps that hold between gridpoints, acceleration and torque
+rows with left limits at curvature jumps, and toppra's constant-acceleration output with its
+times from NumPy. They are plain module classes, so trajectories that hold them pickle.
 """
 
 from __future__ import annotations
@@ -21,13 +21,12 @@ import toppra.parametrizer
 from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import PPoly
 
-from optraj.planners.time_optimal.toppra_planner import (
-    GeometricPath,
+from optraj.planners.time_optimal.toppra_constraints import (
     chord_safe_bound,
-    curvature_jumps,
     jump_rows,
     normalised_rows,
 )
+from optraj.planners.time_optimal.toppra_path import GeometricPath, curvature_jumps
 
 try:  # toppra 0.6's layout; any other: the public constructor below
     from toppra.algorithm.algorithm import ParameterizationAlgorithm
@@ -55,12 +54,12 @@ Ok = toppra.algorithm.ParameterizationReturnCode.Ok
 Collocation = toppra.constraint.DiscretizationType.Collocation
 
 
-class SeidelTOPPRA(toppra.algorithm.TOPPRA):  # type: ignore[misc]
+class SeidelTOPPRA(toppra.algorithm.TOPPRA):
     """toppra's TOPPRA with its Seidel solver wrapper, built without the solver probe.
 
     ``ReachabilityAlgorithm.__init__`` looks for the optional solver packages (qpOASES,
-    cvxpy, by importlib) on every construction, even when the wrapper is named: about
-    0.1 ms, 4 % of a 100-interval solve. This builds the same instance as
+    cvxpy, by importlib) on every construction, even when the wrapper is named. This
+    builds the same instance as
     ``TOPPRA(constraints, path, gridpoints, solver_wrapper="seidel", parametrizer=...)``
     (the base initialisation, then the wrapper with the same arguments) without it.
     """
@@ -83,7 +82,7 @@ class SeidelTOPPRA(toppra.algorithm.TOPPRA):  # type: ignore[misc]
         )
 
 
-class PolynomialPath(toppra.interpolator.AbstractGeometricPath):  # type: ignore[misc]
+class PolynomialPath(toppra.interpolator.AbstractGeometricPath):
     """A piecewise polynomial path q(s) for toppra, evaluated by scipy's PPoly.
 
     Attributes:
@@ -120,7 +119,7 @@ class PolynomialPath(toppra.interpolator.AbstractGeometricPath):  # type: ignore
         return self._interval
 
 
-class SpeedConstraint(toppra.constraint.LinearConstraint):  # type: ignore[misc]
+class SpeedConstraint(toppra.constraint.LinearConstraint):
     r"""Speed caps that hold between gridpoints too: :math:`\max_k r_k(s)\,\dot s \le 1`.
 
     ``rates(path, s)`` gives each capped speed per unit path velocity over its cap,
@@ -141,7 +140,7 @@ class SpeedConstraint(toppra.constraint.LinearConstraint):  # type: ignore[misc]
         return None, None, None, None, None, None, xbound
 
 
-class AccelerationConstraint(toppra.constraint.LinearConstraint):  # type: ignore[misc]
+class AccelerationConstraint(toppra.constraint.LinearConstraint):
     r"""Joint acceleration limits, :math:`|q'(s)\,u + q''(s)\,x| \le a`.
 
     Discretised like toppra's ``JointAccelerationConstraint`` with its "interpolation"
@@ -171,7 +170,7 @@ class AccelerationConstraint(toppra.constraint.LinearConstraint):  # type: ignor
         return normalised_rows(qs, qss, None, a_end, qss_end, None, self.limit)
 
 
-class TorqueConstraint(toppra.constraint.JointTorqueConstraint):  # type: ignore[misc]
+class TorqueConstraint(toppra.constraint.JointTorqueConstraint):
     """The joint torque constraint of toppra, discretised like the acceleration one.
 
     toppra computes the coefficients at each gridpoint by inverse dynamics (build it
@@ -191,7 +190,7 @@ class TorqueConstraint(toppra.constraint.JointTorqueConstraint):  # type: ignore
         return normalised_rows(a, b, c, a_end, b_end, c[1:], self.tau_lim[:, 1])
 
 
-class ConstAccelOutput(toppra.parametrizer.ParametrizeConstAccel):  # type: ignore[misc]
+class ConstAccelOutput(toppra.parametrizer.ParametrizeConstAccel):
     """toppra's ``ParametrizeConstAccel`` output, its grid times computed with NumPy."""
 
     def _process_parametrization(self) -> None:

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import pickle
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 from conftest import get_robot
@@ -9,7 +13,7 @@ from conftest import get_robot
 from optraj import problems
 from optraj.planners import Toppra
 from optraj.planners.time_optimal import toppra_classes
-from optraj.planners.time_optimal.toppra_planner import GeometricPath
+from optraj.planners.time_optimal.toppra_path import GeometricPath
 
 
 def test_a_plan_holds_the_module_classes_by_their_own_names():
@@ -45,3 +49,24 @@ def test_the_speed_constraint_bounds_the_squared_path_speed_by_its_rates():
     )[-1]
     np.testing.assert_allclose(xbound[:, 0], 0.0)
     assert xbound[:, 1] == pytest.approx(np.full(6, 0.25))  # x = sd^2 <= 1 / 2^2
+
+
+def test_results_pickle_with_toppras_object():
+    robot = get_robot("paddle4")
+    problem = problems.Waypoints(robot, robot.random_configurations(3, np.random.default_rng(4)))
+    traj = Toppra().plan(problem)
+    clone = pickle.loads(pickle.dumps(traj))
+    t = np.linspace(0.0, traj.duration, 50)
+    np.testing.assert_array_equal(clone.sample(t).q, traj.sample(t).q)
+    np.testing.assert_allclose(clone.metadata["native"](t), traj.sample(t).q, atol=1e-9)
+    assert clone.metadata["controllable_sets"].shape == (traj.metadata["gridpoints"] + 1, 2)
+    # a fresh interpreter finds the toppra-derived classes too
+    code = (
+        "import pickle, sys; traj = pickle.loads(sys.stdin.buffer.read()); "
+        "print(traj.metadata['native'].duration)"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], input=pickle.dumps(traj), capture_output=True, check=False
+    )
+    assert done.returncode == 0, done.stderr.decode()
+    assert float(done.stdout) == pytest.approx(traj.duration)
