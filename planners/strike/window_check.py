@@ -1,43 +1,21 @@
 r"""How close a pool strike's window can come to the joint limits, by a small NLP on the window.
 
-The contact choice (:mod:`planners.strike.contact`) bounds joint velocities at three configurations
-of the strike line. Close to the fastest strike it allows, the line can still be out of
-reach: the joints must keep those velocities over the whole window, where the velocities the
-line needs change faster than the acceleration and jerk limits let them. :class:`WindowCheck`
-answers how near the limits the window can be run, counting the approach into it and the
-stop after it: the window (``problem.window``
-long, cut into ``intervals`` equal intervals of constant jerk, the optimal-control
-transcription's exact triple-integrator steps) with the cue tip on its schedule and the cue
-axis on the line at every node, the tip velocity ``speed * direction`` at entry and exit, and
-free joint states at both ends, solved for
-
-.. math::
-
-    \min_{x, u, s} s \quad \text{s.t.} \quad |\dot q_{k,i}| \le s\, \dot q_{\max,i},\;
-    |\dot q_{k,i} + \tfrac{h}{2} \ddot q_{k,i}| \le s\, \dot q_{\max,i},\;
-    |\ddot q_{k,i}| \le s\, \ddot q_{\max,i},\; |u_{k,i}| \le s\, \dddot q_{\max,i},\;
-    \Big|\dot q_{0,i} - \frac{\ddot q_{0,i} |\ddot q_{0,i}|}{2 \dddot q_{\max,i}}\Big|
-    \le s\, \dot q_{\max,i},\;
-    \Big|\dot q_{K,i} + \frac{\ddot q_{K,i} |\ddot q_{K,i}|}{2 \dddot q_{\max,i}}\Big|
-    \le s\, \dot q_{\max,i}
-
-with the positions inside their limits. When its optimum keeps within those limits but its
-torques (the robot's inverse dynamics at the nodes, gravity included) do not, the same NLP
-with the torques bounded by :math:`s` times the effort limits is solved too, and its
-optimum is the answer (torque rows make a solve about three times as long, so they come in
-only where they can change it). The last two rows
-are the approach and the stop: a joint's acceleration changes no faster than its jerk limit,
-so a joint that enters the window slowing down was faster by at least
-:math:`\ddot q^2 / (2 \dddot q_{\max})` before it, and one that leaves it speeding up gets
-that much faster after it. Without them the window of
-strike benchmark ball 0 at 1.5 m/s needed 0.997 of the limits, yet its whole NLP stayed
-infeasible (even with both ends free) up to limits 1.01 times as large and planned at 1.02;
-with them the window needs 1.019. The optimum :math:`s^*` is the least fraction of the
-limits the window needs: above 1 the window, and so the strike, is out of reach, whatever
-the approach and the stop. It is a local optimum from the contact choice's strike line
-(the NLP is not convex), so :math:`s^*` can come out above the global least value: the
-planner only uses it to skip further contact configurations once a solve has failed and to
-explain its error, never to refuse a strike it has not tried to solve.
+The contact choice (:mod:`planners.strike.contact`) bounds joint velocities at three
+configurations of the strike line. Close to the fastest strike it allows, the line can still be
+out of reach: the joints must keep those velocities over the whole window, where the velocities
+the line needs change faster than the acceleration and jerk limits let them.
+:class:`WindowCheck` answers how near the limits the window can be run, counting the approach
+into it and the stop after it: it solves the window NLP of
+:mod:`planners.strike.window_nlp`, the least slack :math:`s` by which the limits can be scaled
+with the window within them. When its optimum keeps within the velocity, acceleration and jerk
+limits but its torques (the robot's inverse dynamics at the nodes, gravity included) do not,
+the same NLP with torque rows is solved too, and its optimum is the answer (torque rows make a
+solve much longer, so they come in only where they can change it). The optimum :math:`s^*` is
+the least fraction of the limits the window needs: above 1 the window, and so the strike, is
+out of reach, whatever the approach and the stop. It is a local optimum from the contact
+choice's strike line (the NLP is not convex), so :math:`s^*` can come out above the global
+least value: the planner only uses it to skip further contact configurations once a solve has
+failed and to explain its error, never to refuse a strike it has not tried to solve.
 
 A joint motion run :math:`\lambda` times faster along the same path needs :math:`\lambda`,
 :math:`\lambda^2` and :math:`\lambda^3` times the velocities, accelerations and jerks, and
@@ -52,7 +30,12 @@ joints (:attr:`WindowRatio.max_speed`; 0 when gravity alone needs more than an e
 which no slower strike helps), and the quantity with the least factor is the one that binds.
 Above the strike speed (a window within the limits) the same formula is an estimate: faster,
 the run-outs grow by more. At the strike's own speed, limits :attr:`WindowRatio.ratio` times
-as large are the least scale the window can keep within.
+as large are the least scale the window can keep within. Usage::
+
+    check = WindowCheck()  # keeps one compiled NLP per robot and limits
+    window = check(problem, choose_contact(problem).q)
+    if window.exceeds():
+        print(window.describe())
 """
 
 from __future__ import annotations
@@ -62,31 +45,34 @@ import threading
 from dataclasses import dataclass
 from typing import Any
 
-import casadi as ca
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError, SolverError
 from optraj.planners.base import CompiledCache
-from optraj.planners.ocp.transcription import Rows, jerk_step, strike_node_rows, structure_limits
-from optraj.planners.strike.time_optimal_strike import strike_line
+from optraj.planners.ocp.transcription import structure_limits
+from optraj.planners.strike.window_nlp import (
+    WindowNLP,
+    build_window_nlp,
+    first_point,
+    parameters,
+    run_out,
+    split_point,
+)
 from optraj.problems import PoolStrike
-from optraj.problems.common import normal_pair
-from optraj.robots import JointLimits, Robot, SymbolicModel
+from optraj.robots import JointLimits, Robot
 from optraj.validation import as_count, as_vector
 
 __all__ = ["WINDOW_INTERVALS", "WindowCheck", "WindowRatio", "run_out"]
 
 FloatArray = NDArray[np.float64]
 
-#: Intervals of the window NLP. On six of the strike benchmark's speed-table balls at 1.35 and
-#: 1.5 m/s its optimum moved by at most 0.8 % from 8 to 24 intervals, and a solve at 8 took
-#: about half the time of one at 16 (30 to 40 ms).
+#: Intervals of the window NLP: more move its optimum little and make each solve longer.
 WINDOW_INTERVALS = 8
 #: Most intervals of the window NLP: each adds a node's kinematics and dynamics to it, and
 #: past some hundreds its build takes minutes for no better answer.
 MAX_WINDOW_INTERVALS = 200
-#: Most IPOPT iterations of one window NLP; the solves that converge take 16 to 30.
+#: Most IPOPT iterations of one window NLP, well above what a converging solve takes.
 WINDOW_ITERATIONS = 300
 #: IPOPT statuses whose point is a local optimum of the window NLP.
 CONVERGED_STATUSES = frozenset({"Solve_Succeeded", "Solved_To_Acceptable_Level"})
@@ -161,18 +147,6 @@ class WindowRatio:
         )
 
 
-@dataclass(frozen=True)
-class _Compiled:
-    solver: ca.Function
-    lbx: FloatArray
-    ubx: FloatArray
-    lbg: FloatArray
-    ubg: FloatArray
-    mid: FloatArray
-    half: FloatArray
-    scale: tuple[FloatArray, FloatArray, FloatArray]  # velocity, acceleration, jerk limits
-
-
 class WindowCheck(CompiledCache):
     """The window NLP of a pool strike (module docstring); picklable, one solver per robot.
 
@@ -187,7 +161,7 @@ class WindowCheck(CompiledCache):
     ) -> None:
         self.intervals = as_count(intervals, "intervals", 2, MAX_WINDOW_INTERVALS)
         self.max_iterations = as_count(max_iterations, "max_iterations", 1)
-        self._compiled: dict[tuple[Any, ...], _Compiled] = {}
+        self._compiled: dict[tuple[Any, ...], WindowNLP] = {}
         self._lock = threading.Lock()
 
     def __repr__(self) -> str:
@@ -217,22 +191,10 @@ class WindowCheck(CompiledCache):
                 name="problem",
             )
         limits = problem.limits
-        n, k = limits.n, self.intervals
-        q = as_vector(q_contact, "q_contact", n)
+        q = as_vector(q_contact, "q_contact", limits.n)
         compiled = self._compile(problem.robot, limits, effort=False)
-        h = float(problem.window) / k
-        line = strike_line(problem, k, q_contact=q)
-        samples = line.sample(np.minimum(np.linspace(0.0, problem.window, k + 1), line.duration))
-        vel, acc, jerk = compiled.scale
-        nodes = np.hstack(
-            [(samples.q - compiled.mid) / compiled.half, samples.qd / vel, samples.qdd / acc]
-        )
-        jerks = np.diff(samples.qdd, axis=0) / h / jerk
-        start = float(max(np.abs(nodes[:, n:]).max(), np.abs(jerks).max(), 1e-3))
-        x0 = np.concatenate([nodes.reshape(-1), jerks.reshape(-1), [start]])
-        direction = np.asarray(problem.direction, dtype=float)
-        e1, e2 = normal_pair(direction)
-        p = np.concatenate([problem.entry_point, direction, e1, e2, [float(problem.speed), h]])
+        x0 = first_point(compiled, problem, q, self.intervals)
+        p = parameters(problem, self.intervals)
         kinematic = self._solve(problem, compiled, x0, p, effort=False)
         if kinematic.ratio > 1.0 or kinematic.effort <= 1.0 or not kinematic.converged:
             return kinematic
@@ -244,7 +206,7 @@ class WindowCheck(CompiledCache):
     def _solve(
         self,
         problem: PoolStrike,
-        compiled: _Compiled,
+        compiled: WindowNLP,
         x0: FloatArray,
         p: FloatArray,
         *,
@@ -272,8 +234,7 @@ class WindowCheck(CompiledCache):
                 iterations=int(stats["iter_count"]),
                 detail="the window NLP's point is not finite",
             )
-        states = w[: (k + 1) * 3 * n].reshape(k + 1, 3 * n)
-        jerks = w[(k + 1) * 3 * n : -1].reshape(k, n)
+        states, jerks = split_point(w, k, n)
         q_nodes = compiled.mid + compiled.half * states[:, :n]
         tau = problem.robot.inverse_dynamics(
             q_nodes, vel * states[:, n : 2 * n], acc * states[:, 2 * n :]
@@ -315,12 +276,12 @@ class WindowCheck(CompiledCache):
             iterations=int(stats["iter_count"]),
         )
 
-    def _compile(self, robot: Robot, limits: JointLimits, *, effort: bool) -> _Compiled:
+    def _compile(self, robot: Robot, limits: JointLimits, *, effort: bool) -> WindowNLP:
         key = (robot.fingerprint, structure_limits(limits), self.intervals, effort)
         with self._lock:
             compiled = self._compiled.get(key)
         if compiled is None:
-            compiled = _compile(robot, limits, self.intervals, self.max_iterations, effort)
+            compiled = build_window_nlp(robot, limits, self.intervals, self.max_iterations, effort)
             with self._lock:
                 compiled = self._compiled.setdefault(key, compiled)
         return compiled
@@ -344,32 +305,6 @@ def _effort_factor(tau: FloatArray, gravity: FloatArray, effort: FloatArray) -> 
     with np.errstate(divide="ignore"):
         squares = np.where(moving > 0.0, room / moving, math.inf)
     return float(math.sqrt(squares.min()))
-
-
-def run_out(
-    velocity: FloatArray | ca.SX,
-    acceleration: FloatArray | ca.SX,
-    jerk: FloatArray | ca.SX,
-    sign: float,
-) -> FloatArray | ca.SX:
-    """The velocity a joint reaches when its acceleration, changed at the jerk limit, is zero.
-
-    Forward in time (``sign`` +1) from a state, backward (``sign`` -1) into it. No jerk
-    profile within the limit takes the acceleration to zero with less change of velocity, and
-    the velocity changes monotonically on the way: so the joint's speed over that stretch,
-    the state included, peaks at least at the magnitude of this value. Element-wise on NumPy
-    arrays and CasADi expressions alike.
-
-    Args:
-        velocity: Joint velocity [rad/s or m/s].
-        acceleration: Joint acceleration [rad/s^2 or m/s^2].
-        jerk: Jerk limit, > 0 [rad/s^3 or m/s^3].
-        sign: +1 after the state, -1 before it.
-
-    Returns:
-        ``velocity + sign * acceleration * |acceleration| / (2 * jerk)``, in the velocity's unit.
-    """
-    return velocity + sign * acceleration * abs(acceleration) / (2.0 * jerk)
 
 
 def _velocity_peaks(
@@ -406,98 +341,3 @@ def _velocity_peaks(
     )
     nodes = np.abs(states[:, n : 2 * n]).max(axis=0)
     return np.maximum.reduce([nodes, (at_turn / vel).max(axis=0), ends.max(axis=0) / vel])
-
-
-def _compile(
-    robot: Robot, limits: JointLimits, k: int, max_iterations: int, effort_rows: bool
-) -> _Compiled:
-    """The window NLP: node states and jerks scaled by the limits, then the slack ``s``.
-
-    With ``effort_rows`` the torques at the nodes are bounded by ``s`` times the effort
-    limits too (the robot's RNEA: about 3 times the solve time, 4 times the build time).
-    """
-    symbolic = SymbolicModel(robot)
-    lower, upper = np.asarray(limits.lower), np.asarray(limits.upper)
-    vel, acc, jerk, effort = (
-        np.asarray(limits.velocity),
-        np.asarray(limits.acceleration),
-        np.asarray(limits.jerk),
-        np.asarray(limits.effort),
-    )
-    n = lower.size
-    mid, half = 0.5 * (lower + upper), 0.5 * (upper - lower)
-    w = ca.SX.sym("w", (k + 1) * 3 * n + k * n + 1)
-    p = ca.SX.sym("p", 14)
-    entry, d, e1, e2, speed, h = p[0:3], p[3:6], p[6:9], p[9:12], p[12], p[13]
-    s = w[-1]
-    tool = (
-        symbolic.frame_position(robot.tool_frame),
-        symbolic.frame_rotation(robot.tool_frame),
-        symbolic.frame_jacobian(robot.tool_frame),
-    )
-    line = {"direction": d, "e1": e1, "e2": e2, "speed": speed}
-    rows = Rows()
-
-    def within(scaled: ca.SX) -> None:
-        """``|scaled| <= s``, element-wise."""
-        rows.add("limits", scaled - s, -np.inf, 0.0)
-        rows.add("limits", scaled + s, 0.0, np.inf)
-
-    def state(node: int) -> tuple[ca.SX, ca.SX, ca.SX, ca.SX]:
-        z = w[node * 3 * n : (node + 1) * 3 * n]
-        return mid + half * z[:n], vel * z[n : 2 * n], acc * z[2 * n :], z
-
-    cost = s
-    rnea = symbolic.rnea() if effort_rows else None  # only the effort rows need it
-    for node in range(k + 1):
-        q, qd, qdd, z = state(node)
-        strike_node_rows(rows, tool, line, q, qd, entry + speed * h * node * d, node in (0, k))
-        if node in (0, k):
-            # The approach into the window and the stop after it (module docstring).
-            within(run_out(qd, qdd, jerk, -1.0 if node == 0 else 1.0) / vel)
-        within(z[n:])
-        if rnea is not None:
-            within(rnea(q, qd, qdd) / effort)
-        if node == k:
-            break
-        zu = w[(k + 1) * 3 * n + node * n : (k + 1) * 3 * n + (node + 1) * n]
-        q1, v1, a1, _ = state(node + 1)
-        q_next, v_next, a_next = jerk_step(h, q, qd, qdd, jerk * zu)
-        step = ca.vertcat((q1 - q_next) / half, (v1 - v_next) / vel, (a1 - a_next) / acc)
-        rows.add("dynamics", step, 0.0, 0.0)
-        within(ca.vertcat((qd + h / 2 * qdd) / vel, zu))  # velocity's middle Bernstein term
-        cost += 1e-6 * ca.sumsqr(zu)  # a unique jerk where the slack leaves it free
-    solver = ca.nlpsol(
-        "window_check",
-        "ipopt",
-        {"x": w, "p": p, "f": cost, "g": ca.vertcat(*rows.rows)},
-        {
-            "expand": True,
-            "print_time": False,
-            "ipopt.print_level": 0,
-            "ipopt.sb": "yes",
-            "ipopt.tol": 1e-6,
-            "ipopt.max_iter": max_iterations,
-            # The slack meets hundreds of limit rows, each with a barrier term: from IPOPT's
-            # default barrier parameter (0.1) their pull outweighs the objective and the
-            # iterates ran off on an easy 1 m/s strike (ratio 1000 after 300 iterations).
-            # From 1e-3 all 36 windows of a sample of 1, 1.35 and 1.5 m/s strikes converged,
-            # in 16 to 30 iterations.
-            "ipopt.mu_init": 1e-3,
-            "ipopt.mumps_permuting_scaling": 0,
-            "ipopt.mumps_scaling": 0,
-        },
-    )
-    node_lower = np.concatenate([-np.ones(n), np.full(2 * n, -np.inf)])
-    lbx = np.concatenate([np.tile(node_lower, k + 1), np.full(k * n, -np.inf), [0.0]])
-    ubx = np.concatenate([np.tile(-node_lower, k + 1), np.full(k * n, np.inf), [np.inf]])
-    return _Compiled(
-        solver=solver,
-        lbx=lbx,
-        ubx=ubx,
-        lbg=np.concatenate(rows.lower),
-        ubg=np.concatenate(rows.upper),
-        mid=mid,
-        half=half,
-        scale=(vel, acc, jerk),
-    )

@@ -12,7 +12,7 @@ from optraj.errors import InvalidInputError
 from optraj.planners import OptimalControl, Trajectory, check
 from optraj.planners.ocp.transcription import jerk_step
 from optraj.planners.strike.contact import choose_contact
-from optraj.planners.strike.window_check import QUANTITIES, WindowCheck, _velocity_peaks, run_out
+from optraj.planners.strike.window_check import QUANTITIES, WindowCheck, _velocity_peaks
 
 #: Strike benchmark ball 3 and its heading [deg]: at 1.5 m/s its contact configurations need
 #: more than 0.99 of right_j0's velocity limit, and its window more than the limits.
@@ -110,45 +110,6 @@ def test_the_window_check_refuses_what_it_cannot_check():
         WindowCheck()(problems.seed_paddle_strike(), np.zeros(4))
     with pytest.raises(InvalidInputError, match="intervals"):
         WindowCheck(intervals=1)
-
-
-def test_run_out_is_the_velocity_where_the_acceleration_reaches_zero():
-    # Against the exact steps at the jerk limit: forward from the state with the jerk against
-    # its acceleration, and backward in time from it.
-    rng = np.random.default_rng(5)
-    velocity, acceleration = rng.uniform(-2.0, 2.0, 6), rng.uniform(-8.0, 8.0, 6)
-    jerk = rng.uniform(100.0, 500.0, 6)
-    stop = np.abs(acceleration) / jerk  # [s] until the acceleration is zero
-    for sign in (1.0, -1.0):
-        _, v, a = jerk_step(
-            sign * stop, 0.0, velocity, acceleration, -sign * np.sign(acceleration) * jerk
-        )
-        np.testing.assert_allclose(a, 0.0, atol=1e-12)
-        np.testing.assert_allclose(run_out(velocity, acceleration, jerk, sign), v, rtol=1e-12)
-
-
-def test_no_jerk_within_the_limit_stops_the_acceleration_with_less_run_out():
-    # Seeded random jerk profiles within the limit, held over 0.1 ms steps, take a joint's
-    # acceleration (> 0) to zero forward and backward in time: the velocity then is past
-    # run_out's, on the far side from the state's, so the speed over that stretch (the state
-    # included) peaks at least at |run_out|.
-    rng = np.random.default_rng(8)
-    jerk, dt = 300.0, 1e-4
-    for _ in range(20):
-        v0, a0 = rng.uniform(-2.0, 2.0), rng.uniform(0.5, 8.0)
-        for sign in (1.0, -1.0):
-            v, a = v0, a0
-            while True:
-                u = -sign * rng.uniform(-0.2, 1.0) * jerk  # |u| <= jerk, mostly braking a
-                step = dt
-                if a + sign * u * dt <= 0.0:  # the acceleration reaches zero in this step
-                    step = a / abs(u)
-                _, v, a = jerk_step(sign * step, 0.0, v, a, u)
-                if step < dt:
-                    break
-            bound = run_out(v0, a0, jerk, sign)
-            assert sign * (v - bound) >= -1e-9
-            assert max(abs(v), abs(v0)) >= abs(bound) - 1e-9
 
 
 def test_ball_0s_window_at_1_5_m_s_needs_more_than_the_limits_with_its_approach_and_stop():
