@@ -9,7 +9,6 @@ from conftest import get_robot
 from optraj.planners.ocp.transcription import (
     Structure,
     compile_nlp,
-    parameter_vector,
     structure_limits,
 )
 from optraj.robots import SymbolicModel
@@ -29,7 +28,7 @@ def youbot_nlp(intervals=(4, 3), **fields):
 
 
 def nlp_rows(compiled, w, name):
-    g = ca.Function("g", [compiled.w, compiled.p], [compiled.g])(w, parameter_vector())
+    g = ca.Function("g", [compiled.w, compiled.p], [compiled.g])(w, compiled.parameters.vector())
     g = np.asarray(g).reshape(-1)
     return np.concatenate([g[a:b] for group, a, b in compiled.groups if group == name])
 

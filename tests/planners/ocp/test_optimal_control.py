@@ -11,7 +11,7 @@ import pytest
 from conftest import get_robot
 
 import optraj.planners.ocp.formulation as formulation
-import optraj.planners.ocp.optimal_control as optimal_control
+import optraj.planners.ocp.strike_search as strike_search
 from optraj import problems, robots
 from optraj.errors import (
     CONTACT_CHOICE,
@@ -422,7 +422,7 @@ def test_a_strike_whose_start_gravity_overloads_is_refused_before_any_search(mon
     def searched(*args, **kwargs):
         raise AssertionError("the contact search ran")
 
-    monkeypatch.setattr(optimal_control, "contact_choices", searched)
+    monkeypatch.setattr(strike_search, "contact_choices", searched)
     monkeypatch.setattr(formulation, "choose_contact", searched)
     problem = _overloaded_pool_shot()
     gravity = np.abs(problem.robot.gravity_torque(problem.q_start))
