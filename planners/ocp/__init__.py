@@ -74,8 +74,8 @@ Verification
     a limit, the bounds of its two nodes on that side move in by the excess and the same NLP
     is solved again, warm (up to :data:`POSITION_SHRINKS` times); only if that does not
     settle is it solved with the rows that bound positions between nodes too (the Bernstein
-    rows of :mod:`planners.ocp.transcription`, a third of all rows, which cost about a third of
-    a solve's time when they are always there, and a new NLP to build).
+    rows of :mod:`planners.ocp.transcription`, a third of all rows: costly when they are
+    always there, and a new NLP to build).
     ``position_rows=True`` has the rows from the first solve.
     The strike line is verified between nodes (quarter points of each interval); where the
     cue tip leaves its tolerance the strike phase gets twice the intervals and the NLP is

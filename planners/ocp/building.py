@@ -95,29 +95,19 @@ def nlp_options(planner: OptimalControl) -> tuple[tuple[str, Any], ...]:
                 "ipopt.constr_viol_tol": 1e-9,
                 "ipopt.max_iter": planner.max_iterations,
                 "ipopt.mu_strategy": "monotone",
-                # MUMPS's own row and column scaling costs about a third of a solve on
-                # these KKT systems, whose rows are already scaled by the limits, and
-                # changes no iterate count (measured on the strike benchmark's shots).
+                # The rows are already scaled by the limits: MUMPS's own row and column
+                # scaling only costs time.
                 "ipopt.mumps_permuting_scaling": 0,
                 "ipopt.mumps_scaling": 0,
                 # IPOPT refines every step at least once by default; these steps meet
-                # its residual test without it. Off: about 8 % less NLP time per
-                # iteration, the same iterates (20 strike shots cold and warm, A/B
-                # twice, identical iteration counts).
+                # its residual test without it, so the refinement only costs time.
                 "ipopt.min_refinement_steps": 0,
                 # IPOPT's heuristics for problems that may be infeasible: while the
                 # violation is above 1e-3 (expect_infeasible_problem_ctol) and until the
                 # first restoration phase, the line search turns to restoration sooner
                 # (no watchdog or soft restoration), and restoration must cut the
-                # violation further before it ends. Measured with a fresh planner per
-                # shot on Sawyer pool strikes of the speed table's 10 balls: at 1.5 m/s
-                # the 6 that pass the contact choice but need more acceleration than the
-                # limits give on the line took 1.0 to 21.0 s (33.4 s in all) to their
-                # SolverError without them, 0.4 to 3.2 s (8.8 s) with them; the same
-                # iterates with and without on the first 30 benchmark shots at 1 m/s, 10
-                # at 0.03 and 0.3 m/s, the 18 of the 10 balls that plan at 1.2 and
-                # 1.35 m/s, and the test suite's 20 paddle4 strikes, 20 minimum-time and
-                # 10 minimum-jerk Sawyer moves and 10 youBot moves with a jerk weight.
+                # violation further before it ends. Strikes past the limits then fail
+                # sooner; feasible problems are solved by the same iterates.
                 "ipopt.expect_infeasible_problem": "yes",
             }
         )

@@ -230,9 +230,8 @@ def lends_to(problem: PoolStrike, warm_start: Trajectory | None, choice: Contact
     Not when it is a pool solution through another IK branch (its contact configuration more
     than :data:`planners.strike.contact.BRANCH_SPREAD` from the choice's on some joint): IPOPT would
     have to drag the whole strike across from there, at the warm start's small barrier
-    parameter, which took 300 to 630 iterations on strike benchmark shots whose ball moved 2
-    cm (the search chose another branch once the kept one had no room left), against 30 to 70
-    from the cold guess. A warm start that recorded no contact seeds any choice.
+    parameter, which takes far more iterations than a solve from the cold guess. A warm
+    start that recorded no contact seeds any choice.
     """
     if warm_start is None:
         return False
@@ -250,7 +249,7 @@ def pool_spec(
 
     A previous pool solution (a re-plan's warm start, with its primal and dual values) also
     gives the phase durations the grid starts from, which saves the IK of the strike line
-    and the Ruckig moves of a fresh guess (about 8 ms).
+    and the Ruckig moves of a fresh guess.
     """
     limits = problem.limits
     n = limits.n

@@ -214,14 +214,14 @@ class OptimalControl(CompiledCache):
             failure is raised. 0 solves from the chosen configuration only. Once the
             solver has found a strike infeasible, a configuration is solved from only if
             its strike window can keep within the limits
-            (:class:`planners.strike.window_check.WindowCheck`, 30 to 40 ms where a failing solve
-            takes 0.3 to 2 s).
+            (:class:`planners.strike.window_check.WindowCheck`, far cheaper than a failing
+            solve).
         free_grid: Whether each interval of a free phase has its own length (else all
             intervals of a phase are equal).
         reuse_contact: Whether a pool strike warm started from a previous pool solution
             first keeps that solution's contact branch when it still has room
             (:func:`planners.strike.contact.contact_near`, one local IK instead of the contact
-            search, about 30 ms less). The branch then stays the same from one re-plan to
+            search). The branch then stays the same from one re-plan to
             the next, but it may not be the one a cold plan picks (the branch the arm
             reaches soonest), so the motion may take longer. When its solve fails, the
             contact search runs as without a warm start.

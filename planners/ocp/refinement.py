@@ -103,8 +103,7 @@ def strike_caps(ratio: float, keep: float = 1.0) -> tuple[float, float]:
     Returns:
         ``(velocity, acceleration)``: :data:`STRIKE_VELOCITY_ROOM` times ``ratio`` and
         :data:`STRIKE_ACCELERATION_ROOM` times its square, each at most ``keep`` [-].
-        The 99 benchmark shots at 1 m/s that Sawyer can strike need ratios of 0.52 to 0.90,
-        so the caps bind only in slower strikes.
+        The caps bind only in slow strikes.
 
     Raises:
         InvalidInputError: A ratio that is not a finite number >= 0, or ``keep`` outside

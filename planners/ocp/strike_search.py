@@ -51,9 +51,8 @@ def window_ratio(
     """The window check of a choice once a solve was found infeasible, else None.
 
     Whatever the choice's velocity ratio: the contact choice checks three configurations
-    of the line, and its window can need more than the limits at a ratio of 0.75 (strike
-    benchmark ball 15 at 1.2 m/s, second choice: 1.05). None too when the check has no
-    answer (no IK start on the line, no finite point).
+    of the line only, and a window can need more than the limits at a ratio well below 1.
+    None too when the check has no answer (no IK start on the line, no finite point).
     """
     if failure is None or failure.status not in INFEASIBLE_STATUSES:
         return None

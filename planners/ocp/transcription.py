@@ -101,11 +101,9 @@ __all__ = [
     "torque_linearization",
     "torque_parameter_count",
 ]
-#: Most IPOPT iterations of a warm-started solve. Warm solves of the strike benchmark's shots
-#: whose ball moved 2 cm take 3 to 34 iterations (median 9); the few that take longer start
-#: from an active set far from the new problem's, and took 300 to 630 iterations at the
-#: warm start's small barrier parameter where a solve from the same primal point with a fresh
-#: barrier takes about 60.
+#: Most IPOPT iterations of a warm-started solve. A warm solve that needs more starts from an
+#: active set far from the new problem's, where the warm start's small barrier parameter
+#: makes slow progress: a solve from the same primal point with a fresh barrier is quicker.
 WARM_ITERATIONS = 50
 
 FloatArray = NDArray[np.float64]
@@ -192,8 +190,6 @@ class CompiledNLP:
                 # The barrier starts where a cold solve's stopping test leaves it (IPOPT
                 # stops once the barrier problem is solved to barrier_tol_factor = 10 times
                 # the barrier parameter): a tenth of the tolerance, 1e-7 at IPOPT's own 1e-6.
-                # From a solution to 1e-4, a start at 1e-7 took 380 iterations over 20 warm
-                # strike re-plans against 216 from solutions to 1e-6.
                 options["ipopt.mu_init"] = 0.1 * float(options.get("ipopt.tol", 1e-6))
                 # A warm solve that has not converged by then is dropped for a cold one from
                 # the same primal point (OptimalControl._solve).
