@@ -3,7 +3,10 @@
 Import the planner from :mod:`optraj.planners`; the modules here hold its pieces
 (:class:`planners.ocp.optimal_control.OptimalControl` is the planner; the names
 :data:`TIGHT_RATIO`, :data:`POSITION_SHRINKS`, :data:`TIME_BUDGET`, :data:`BUDGET_SPENT` are in
-:mod:`planners.ocp.options`, :data:`BINDING` in :mod:`planners.ocp.solution`).
+:mod:`planners.ocp.options`, :data:`BINDING` in :mod:`planners.ocp.solution`). A problem's
+task constraints (``problem.constraints()``: strike line, tool contact, boundary states)
+become NLP rows and bounds in :mod:`planners.ocp.task_rows`, one kind per module; the rounds
+of solve, verify and refine are in :mod:`planners.ocp.rounds`.
 
 Contact configuration
     A strike's contact configuration is chosen before the NLP is built

@@ -435,11 +435,3 @@ class OptimalControl(CompiledCache):
         with deadline(self._budget()):
             traj = self._solve(built)
         return stamp(traj, self.name, started)
-
-    # -- rounds of solve, verify, refine -----------------------------------------------------
-
-    # -- building ----------------------------------------------------------------------------
-
-    # -- solving -----------------------------------------------------------------------------
-
-    # -- problems ------------------------------------------------------------------------------
