@@ -1,4 +1,4 @@
-"""NLPs of the ocp tests: a compiled youBot transcription, its rows and an exact motion."""
+"""Shared pieces of the ocp tests: problems, a contact choice, a compiled youBot NLP, its rows."""
 
 from __future__ import annotations
 
@@ -6,13 +6,47 @@ import casadi as ca
 import numpy as np
 from conftest import get_robot
 
+from optraj import problems
 from optraj.planners.ocp.transcription import (
     Structure,
     compile_nlp,
-    parameter_vector,
     structure_limits,
 )
+from optraj.planners.strike.contact import ContactChoice
 from optraj.robots import SymbolicModel
+
+#: Ranges of the strike benchmark's Sawyer shots: ball centre [m] and heading [deg].
+SAWYER_SHOT = {"x": (0.65, 0.85), "y": (-0.05, 0.3), "z": (-0.1, 0.0), "heading": (-20.0, 20.0)}
+
+
+def sawyer_shots(count: int, speed: float, seed: int = 7):
+    """``count`` seeded Sawyer pool shots at ``speed`` [m/s] within :data:`SAWYER_SHOT`."""
+    rng = np.random.default_rng(seed)
+    for _ in range(count):
+        ball = tuple(rng.uniform(*SAWYER_SHOT[axis]) for axis in "xyz")
+        yield problems.sawyer_pool_shot(
+            speed, ball, heading_deg=rng.uniform(*SAWYER_SHOT["heading"])
+        )
+
+
+def paddle_move() -> problems.PointToPoint:
+    """A paddle4 move from the middle of the joint ranges, 0.2 of each range along."""
+    robot = get_robot("paddle4")
+    lower, upper = robot.limits.lower, robot.limits.upper
+    middle = 0.5 * (lower + upper)
+    return problems.PointToPoint(robot, middle, middle + 0.2 * (upper - lower))
+
+
+def tight_choice(max_speed: float) -> ContactChoice:
+    """A Sawyer contact choice at 0.97 of right_j1's velocity limit."""
+    return ContactChoice(
+        q=np.zeros(7),
+        qd=np.zeros(7),
+        ratio=0.97,
+        max_speed=max_speed,
+        binding_joint="right_j1",
+        candidates=1,
+    )
 
 
 def youbot_nlp(intervals=(4, 3), **fields):
@@ -29,7 +63,7 @@ def youbot_nlp(intervals=(4, 3), **fields):
 
 
 def nlp_rows(compiled, w, name):
-    g = ca.Function("g", [compiled.w, compiled.p], [compiled.g])(w, parameter_vector())
+    g = ca.Function("g", [compiled.w, compiled.p], [compiled.g])(w, compiled.parameters.vector())
     g = np.asarray(g).reshape(-1)
     return np.concatenate([g[a:b] for group, a, b in compiled.groups if group == name])
 

@@ -3,7 +3,10 @@
 Import the planner from :mod:`optraj.planners`; the modules here hold its pieces
 (:class:`planners.ocp.optimal_control.OptimalControl` is the planner; the names
 :data:`TIGHT_RATIO`, :data:`POSITION_SHRINKS`, :data:`TIME_BUDGET`, :data:`BUDGET_SPENT` are in
-:mod:`planners.ocp.options`, :data:`BINDING` in :mod:`planners.ocp.solution`).
+:mod:`planners.ocp.options`, :data:`BINDING` in :mod:`planners.ocp.solution`). A problem's
+task constraints (``problem.constraints()``: strike line, tool contact, boundary states)
+become NLP rows and bounds in :mod:`planners.ocp.task_rows`, one kind per module; the rounds
+of solve, verify and refine are in :mod:`planners.ocp.rounds`.
 
 Contact configuration
     A strike's contact configuration is chosen before the NLP is built
@@ -74,8 +77,8 @@ Verification
     a limit, the bounds of its two nodes on that side move in by the excess and the same NLP
     is solved again, warm (up to :data:`POSITION_SHRINKS` times); only if that does not
     settle is it solved with the rows that bound positions between nodes too (the Bernstein
-    rows of :mod:`planners.ocp.transcription`, a third of all rows, which cost about a third of
-    a solve's time when they are always there, and a new NLP to build).
+    rows of :mod:`planners.ocp.transcription`, a third of all rows: costly when they are
+    always there, and a new NLP to build).
     ``position_rows=True`` has the rows from the first solve.
     The strike line is verified between nodes (quarter points of each interval); where the
     cue tip leaves its tolerance the strike phase gets twice the intervals and the NLP is

@@ -37,7 +37,6 @@ from optraj.planners.ocp.transcription import (
     Structure,
     compile_nlp,
     freeze_options,
-    parameter_vector,
     structure_limits,
     torque_linearization,
 )
@@ -53,10 +52,11 @@ FloatArray = NDArray[np.float64]
 def phase_grids(planner: OptimalControl, spec: Spec, strike_scale: int) -> tuple[PhaseGrid, ...]:
     """The time grid of each phase of ``spec``, strike windows ``strike_scale`` times finer."""
     grids = []
+    strike = None if spec.strike is None else spec.strike.phase
     for index, (name, fixed) in enumerate(zip(spec.names, spec.durations, strict=True)):
         guess_phase = spec.guess.phase(name)
         guess = max(guess_phase.duration, 1e-3) if fixed is None else fixed
-        step = planner.strike_step if index == spec.strike_phase else planner.step
+        step = planner.strike_step if index == strike else planner.step
         if spec.intervals is not None:
             count = spec.intervals[index]
         elif isinstance(planner.intervals, int):
@@ -67,7 +67,7 @@ def phase_grids(planner: OptimalControl, spec: Spec, strike_scale: int) -> tuple
             count = int(np.clip(5 * np.ceil(guess / step / 5.0), 5, 60))
             if fixed is None:  # room to grow: at least 1.25 x the guess at max_interval
                 count = max(count, int(5 * np.ceil(1.25 * guess / planner.max_interval / 5.0)))
-        if index == spec.strike_phase and strike_scale > 1:
+        if index == strike and strike_scale > 1:
             count = min(count * strike_scale, MAX_STRIKE_INTERVALS)
         if count > MAX_PHASE_INTERVALS:
             raise InvalidInputError(
@@ -95,29 +95,19 @@ def nlp_options(planner: OptimalControl) -> tuple[tuple[str, Any], ...]:
                 "ipopt.constr_viol_tol": 1e-9,
                 "ipopt.max_iter": planner.max_iterations,
                 "ipopt.mu_strategy": "monotone",
-                # MUMPS's own row and column scaling costs about a third of a solve on
-                # these KKT systems, whose rows are already scaled by the limits, and
-                # changes no iterate count (measured on the strike benchmark's shots).
+                # The rows are already scaled by the limits: MUMPS's own row and column
+                # scaling only costs time.
                 "ipopt.mumps_permuting_scaling": 0,
                 "ipopt.mumps_scaling": 0,
                 # IPOPT refines every step at least once by default; these steps meet
-                # its residual test without it. Off: about 8 % less NLP time per
-                # iteration, the same iterates (20 strike shots cold and warm, A/B
-                # twice, identical iteration counts).
+                # its residual test without it, so the refinement only costs time.
                 "ipopt.min_refinement_steps": 0,
                 # IPOPT's heuristics for problems that may be infeasible: while the
                 # violation is above 1e-3 (expect_infeasible_problem_ctol) and until the
                 # first restoration phase, the line search turns to restoration sooner
                 # (no watchdog or soft restoration), and restoration must cut the
-                # violation further before it ends. Measured with a fresh planner per
-                # shot on Sawyer pool strikes of the speed table's 10 balls: at 1.5 m/s
-                # the 6 that pass the contact choice but need more acceleration than the
-                # limits give on the line took 1.0 to 21.0 s (33.4 s in all) to their
-                # SolverError without them, 0.4 to 3.2 s (8.8 s) with them; the same
-                # iterates with and without on the first 30 benchmark shots at 1 m/s, 10
-                # at 0.03 and 0.3 m/s, the 18 of the 10 balls that plan at 1.2 and
-                # 1.35 m/s, and the test suite's 20 paddle4 strikes, 20 minimum-time and
-                # 10 minimum-jerk Sawyer moves and 10 youBot moves with a jerk weight.
+                # violation further before it ends. Strikes past the limits then fail
+                # sooner; feasible problems are solved by the same iterates.
                 "ipopt.expect_infeasible_problem": "yes",
             }
         )
@@ -187,8 +177,7 @@ def build_problem(
         intervals=intervals,
         free=tuple(g.duration is None for g in grids),
         free_grid=planner.free_grid,
-        strike_phase=spec.strike_phase,
-        contact_node=int(first[spec.contact_phase + 1]) if spec.contact_phase >= 0 else -1,
+        tasks=spec.tasks,
         position_rows=planner.position_rows is True if position_rows is None else position_rows,
         torque_nodes=tuple(n for n in torque_nodes if n < nodes),
         torque_rows=planner.torque_rows,
@@ -203,17 +192,18 @@ def build_problem(
     lbx, ubx = _decision_bounds(spec, grids, compiled, first, keep, planner.max_interval, shrink)
 
     x0, lam_x0, lam_g0 = planner._initial(spec, grids, compiled, lbx, ubx, warm_start)
-    params = dict(spec.params)
-    params["time_scale"] = sum(g.guess for g in grids)
+    params: dict[str, Any] = {"time_scale": sum(g.guess for g in grids)}
+    for task in spec.tasks:
+        params.update(task.values())
     saved = None if warm_start is None else warm_start.metadata.get("warm_start")
     if lam_g0 is not None and isinstance(saved, WarmStart) and saved.time_scale:
         params["time_scale"] = saved.time_scale  # the multipliers' objective
-    p = parameter_vector(**params)
     if linear:  # expanded about the initial point: the previous solution or the guess
         room = fixed_room(
             spec, first, structure.torque_nodes, margin if row_margins is None else row_margins
         )
-        p = np.concatenate([p, torque_linearization(compiled, x0, room)])
+        params["torque"] = torque_linearization(compiled, x0, room)
+    p = compiled.parameters.vector(**params)
     return OptimalControlProblem(
         problem=problem,
         compiled=compiled,
@@ -258,14 +248,15 @@ def _decision_bounds(
     ubx[layout.x_start : layout.u_start] = np.tile(-x_lower, layout.nodes)
     lbx[layout.u_start :] = -keep
     ubx[layout.u_start :] = keep
-    if spec.strike_phase >= 0 and spec.contact is not None:
-        _cap_strike_nodes(lbx, ubx, spec.contact.ratio, spec.strike_phase, layout, first, keep)
+    if spec.strike is not None and spec.contact is not None:
+        _cap_strike_nodes(lbx, ubx, spec.contact.ratio, spec.strike.nodes(first), layout, keep)
     if shrink is not None:  # node position bounds moved in (fixed states override them)
         for node in range(layout.nodes):
             index = layout.x_index(node, 0)
             lbx[index] = -1.0 + shrink[node, 0] / half
             ubx[index] = 1.0 - shrink[node, 1] / half
-    _fix_states(lbx, ubx, spec, compiled, first)
+    for fixed in spec.fixed:  # last: they override the bounds above
+        fixed.pin(lbx, ubx, layout, compiled.scale, first)
     return lbx, ubx
 
 
@@ -273,45 +264,19 @@ def _cap_strike_nodes(
     lbx: FloatArray,
     ubx: FloatArray,
     ratio: float,
-    strike_phase: int,
+    nodes: range,
     layout: Layout,
-    first: NDArray[np.int_],
     keep: float,
 ) -> None:
-    """Bound the strike nodes' velocities and accelerations by :func:`strike_caps`, in place.
+    """Bound the strike ``nodes``' velocities and accelerations by :func:`strike_caps`, in place.
 
     ``ratio`` is the contact's largest fraction of a velocity limit [-].
     """
     caps = strike_caps(ratio, keep)
-    for node in range(int(first[strike_phase]), int(first[strike_phase + 1]) + 1):
+    for node in nodes:
         for block, cap in ((1, caps[0]), (2, caps[1])):
             index = layout.x_index(node, block)
             lbx[index], ubx[index] = -cap, cap
-
-
-def _fix_states(
-    lbx: FloatArray,
-    ubx: FloatArray,
-    spec: Spec,
-    compiled: CompiledNLP,
-    first: NDArray[np.int_],
-) -> None:
-    """Pin the spec's fixed node states by equal bounds (within their tolerance), in place."""
-    layout = compiled.layout
-    mid, half, vel, acc, _ = compiled.scale
-    for fixed in spec.fixed:
-        node = int(first[fixed.phase] if fixed.at == "start" else first[fixed.phase + 1])
-        for block, value, scale, shift in (
-            (0, fixed.q, half, mid),
-            (1, fixed.qd, vel, 0.0),
-            (2, fixed.qdd, acc, 0.0),
-        ):
-            if value is None:
-                continue
-            tol = fixed.tolerance if block == 0 else 0.0
-            index = layout.x_index(node, block)
-            lbx[index] = (value - tol - shift) / scale
-            ubx[index] = (value + tol - shift) / scale
 
 
 def initial_point(
@@ -369,7 +334,6 @@ def initial_point(
             x0[layout.x_index(node, 1)] = sample.qd[j] / vel
             x0[layout.x_index(node, 2)] = sample.qdd[j] / acc
     kept = {int(node) for node in layout.first_node}
-    if spec.strike_phase >= 0:
-        phase = spec.strike_phase
-        kept.update(range(layout.first_node[phase], layout.first_node[phase + 1] + 1))
+    if spec.strike is not None:
+        kept.update(spec.strike.nodes(layout.first_node))
     return np.clip(integrable(x0, layout, compiled.scale, sorted(kept)), lbx, ubx), None, None

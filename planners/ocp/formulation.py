@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import time
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any, Literal, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -26,6 +26,7 @@ from optraj.planners.ocp.problem import (
     WarmStart,
 )
 from optraj.planners.ocp.refinement import fixed_name
+from optraj.planners.ocp.task_rows import StrikeLineRows, ToolContactRows
 from optraj.planners.strike.contact import (
     BRANCH_SPREAD,
     ContactChoice,
@@ -36,14 +37,14 @@ from optraj.planners.time_optimal.lower_bound import check_state_torques, joint_
 from optraj.planners.time_optimal.ruckig_planner import stop
 from optraj.planners.trajectory import Phase, Trajectory
 from optraj.problems import PaddleStrike, PointToPoint, PoolStrike, Waypoints
-from optraj.problems.common import normal_pair
+from optraj.problems.constraints import BoundaryState, StrikeLine, ToolContact
 from optraj.robots import JointLimits
-from optraj.robots.paddle_ik import BALL_OFFSET
 
 if TYPE_CHECKING:
     from optraj.planners.ocp.optimal_control import OptimalControl
 
 FloatArray = NDArray[np.float64]
+C = TypeVar("C")
 
 
 def check_duration(
@@ -107,10 +108,7 @@ def point_to_point_spec(problem: PointToPoint) -> Spec:
         names=("move",),
         durations=(problem.duration,),
         guess=guess,
-        fixed=[
-            FixedState(0, "start", problem.q_start, problem.qd_start, a0),
-            FixedState(0, "end", problem.q_goal, problem.qd_goal, a1),
-        ],
+        fixed=boundary_states(problem, phases=1),
     )
 
 
@@ -150,14 +148,28 @@ def waypoints_spec(problem: Waypoints) -> Spec:
         )
         names.append(f"segment {k + 1}")
     guess = Trajectory.sequence(pieces, joint_names=limits.names)
-    fixed = [FixedState(0, "start", points[0], zero_vector(n), zero_vector(n))]
-    fixed += [FixedState(k, "end", points[k + 1], None, None, tol) for k in range(len(points) - 2)]
-    fixed.append(FixedState(len(points) - 2, "end", points[-1], zero_vector(n), zero_vector(n)))
-    durations = tuple(
-        None if fixed_durations is None else float(d)
-        for d in (fixed_durations if fixed_durations is not None else [None] * len(names))
+    start, end = boundary_states(problem, phases=len(names))
+    inner = [FixedState(k, "end", points[k + 1], None, None, tol) for k in range(len(points) - 2)]
+    fixed = [start, *inner, end]
+    durations: tuple[float | None, ...] = (
+        (None,) * len(names)
+        if fixed_durations is None
+        else tuple(float(d) for d in fixed_durations)
     )
     return Spec(problem.robot, limits, tuple(names), durations, guess, fixed)
+
+
+def constraints_of(problem: Any, kind: type[C]) -> list[C]:
+    """The constraints of ``problem`` (``problem.constraints()``) of one kind, in order."""
+    return [item for item in problem.constraints() if isinstance(item, kind)]
+
+
+def boundary_states(problem: Any, phases: int) -> list[FixedState]:
+    """The problem's start and goal states, pinned at the ends of its ``phases`` phases.
+
+    From its :class:`problems.constraints.BoundaryState` objects (:meth:`FixedState.of`).
+    """
+    return [FixedState.of(state, phases) for state in constraints_of(problem, BoundaryState)]
 
 
 def checked_warm_start(problem: Any, warm_start: Any) -> Trajectory | None:
@@ -218,9 +230,8 @@ def lends_to(problem: PoolStrike, warm_start: Trajectory | None, choice: Contact
     Not when it is a pool solution through another IK branch (its contact configuration more
     than :data:`planners.strike.contact.BRANCH_SPREAD` from the choice's on some joint): IPOPT would
     have to drag the whole strike across from there, at the warm start's small barrier
-    parameter, which took 300 to 630 iterations on strike benchmark shots whose ball moved 2
-    cm (the search chose another branch once the kept one had no room left), against 30 to 70
-    from the cold guess. A warm start that recorded no contact seeds any choice.
+    parameter, which takes far more iterations than a solve from the cold guess. A warm
+    start that recorded no contact seeds any choice.
     """
     if warm_start is None:
         return False
@@ -238,7 +249,7 @@ def pool_spec(
 
     A previous pool solution (a re-plan's warm start, with its primal and dual values) also
     gives the phase durations the grid starts from, which saves the IK of the strike line
-    and the Ruckig moves of a fresh guess (about 8 ms).
+    and the Ruckig moves of a fresh guess.
     """
     limits = problem.limits
     n = limits.n
@@ -264,26 +275,15 @@ def pool_spec(
             [("approach", [approach]), ("strike", [line]), ("stop", [brake])],
             joint_names=limits.names,
         )
-    direction = np.asarray(problem.direction)
-    e1, e2 = normal_pair(direction)
+    (strike,) = constraints_of(problem, StrikeLine)
     return Spec(
         robot=problem.robot,
         limits=limits,
         names=phases,
         durations=(None, problem.window, None),
         guess=guess,
-        fixed=[
-            FixedState(0, "start", np.asarray(problem.q_start), zero_vector(n), zero_vector(n)),
-            FixedState(2, "end", None, zero_vector(n), zero_vector(n)),
-        ],
-        params={
-            "entry": problem.entry_point,
-            "direction": direction,
-            "e1": e1,
-            "e2": e2,
-            "speed": float(problem.speed),
-        },
-        strike_phase=1,
+        fixed=boundary_states(problem, phases=len(phases)),
+        tasks=(StrikeLineRows.of(strike, phases, problem.entry_point),),
         contact=choice,
     )
 
@@ -294,7 +294,6 @@ def paddle_spec(problem: PaddleStrike, choice: ContactChoice) -> Spec:
     n = limits.n
     q_contact = np.asarray(problem.q_contact)
     contact_time = float(problem.contact_time)
-    start = FixedState(0, "start", np.asarray(problem.q_start), zero_vector(n), zero_vector(n))
     # No joint is faster than its distance over its velocity limit; arriving at rest, none is
     # faster than alone (planners.lower_bound), within Ruckig's range.
     needed = np.abs(q_contact - np.asarray(problem.q_start)) / limits.velocity
@@ -315,9 +314,11 @@ def paddle_spec(problem: PaddleStrike, choice: ContactChoice) -> Spec:
             names=("approach",),
             durations=(contact_time,),
             guess=guess,
-            fixed=[start, FixedState(0, "end", q_contact, zero_vector(n), zero_vector(n))],
+            fixed=boundary_states(problem, phases=1),
         )
     qd_contact = choice.qd
+    start, end = boundary_states(problem, phases=2)
+    (contact,) = constraints_of(problem, ToolContact)
     approach = quintic_guess(np.asarray(problem.q_start), q_contact, contact_time, qd_contact)
     try:
         brake = stop(q_contact, qd_contact, zero_vector(n), limits, check_limits=False)
@@ -332,16 +333,8 @@ def paddle_spec(problem: PaddleStrike, choice: ContactChoice) -> Spec:
         names=("approach", "stop"),
         durations=(contact_time, None),
         guess=guess,
-        fixed=[
-            start,
-            FixedState(0, "end", q_contact, None, None),
-            FixedState(1, "end", None, zero_vector(n), zero_vector(n)),
-        ],
-        params={
-            "contact_velocity": float(problem.speed) * problem.normal,
-            "offset": BALL_OFFSET,
-        },
-        contact_phase=0,
+        fixed=[start, FixedState(0, "end", q_contact, None, None), end],
+        tasks=(ToolContactRows.of(contact, phase=0),),  # at the end of the approach
         contact=choice,
     )
 
@@ -393,11 +386,11 @@ def held_spec(planner: OptimalControl, spec: Spec) -> Spec:
     """
     if planner.torque is not False:
         last = len(spec.names) - 1
-        states = [
-            (fixed_name(f, last), f.q, f.qd, f.qdd)
-            for f in spec.fixed
-            if f.q is not None and f.qd is not None and f.qdd is not None and not f.tolerance
-        ]
+        states = []
+        for fixed in spec.fixed:
+            exact = fixed.exact()
+            if exact is not None:
+                states.append((fixed_name(fixed, last), *exact))
         check_state_torques(spec.robot, spec.limits, states)
     return spec
 

@@ -95,8 +95,9 @@ def window_guess(problem: PoolStrike, choice: ContactChoice) -> Trajectory:
             failure = error
             if isinstance(error, UnreachableError):
                 break  # more samples reach no more poses
-    if choice.q_entry is None or choice.q_exit is None:
-        raise failure  # pragma: no cover - a pool choice always has its entry and exit
+    if choice.q_entry is None or choice.q_exit is None:  # pragma: no cover
+        # A pool choice always has its entry and exit; the loop above always ran.
+        raise failure or OptrajError("the strike line has no guess")
     q = np.asarray(choice.q, dtype=float)
     qd = np.asarray(choice.qd, dtype=float)
     into = float(problem.contact_delay)

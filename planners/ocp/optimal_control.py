@@ -39,7 +39,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from optraj.errors import (
-    InfeasibleError,
     InvalidInputError,
     SolverError,
 )
@@ -52,15 +51,12 @@ from optraj.planners.ocp.building import (
     phase_grids,
 )
 from optraj.planners.ocp.failures import (
-    past_the_limits,
     solver_cause,
 )
 from optraj.planners.ocp.formulation import (
     check_strike_start_held,
     checked_warm_start,
-    contact_from,
     held_spec,
-    lends_to,
     problem_spec,
 )
 from optraj.planners.ocp.options import (
@@ -117,7 +113,13 @@ from optraj.planners.ocp.solution import (
     with_totals,
 )
 from optraj.planners.ocp.solve import call_solver, check_budget, solve_built
-from optraj.planners.ocp.strike_search import alone_error, attempt, strike_error, window_ratio
+from optraj.planners.ocp.strike_search import (
+    alone_error,
+    attempt,
+    plan_pool_strike,
+    strike_error,
+    window_ratio,
+)
 from optraj.planners.ocp.transcription import (
     TORQUE_ROWS,
     CompiledNLP,
@@ -126,10 +128,8 @@ from optraj.planners.ocp.transcription import (
 )
 from optraj.planners.strike.contact import (
     MAX_CANDIDATES,
-    ContactChoice,
-    contact_choices,
 )
-from optraj.planners.strike.window_check import WindowCheck, WindowRatio
+from optraj.planners.strike.window_check import WindowCheck
 from optraj.planners.trajectory import Trajectory
 from optraj.problems import PoolStrike
 from optraj.robots import SymbolicModel
@@ -214,14 +214,14 @@ class OptimalControl(CompiledCache):
             failure is raised. 0 solves from the chosen configuration only. Once the
             solver has found a strike infeasible, a configuration is solved from only if
             its strike window can keep within the limits
-            (:class:`planners.strike.window_check.WindowCheck`, 30 to 40 ms where a failing solve
-            takes 0.3 to 2 s).
+            (:class:`planners.strike.window_check.WindowCheck`, far cheaper than a failing
+            solve).
         free_grid: Whether each interval of a free phase has its own length (else all
             intervals of a phase are equal).
         reuse_contact: Whether a pool strike warm started from a previous pool solution
             first keeps that solution's contact branch when it still has room
             (:func:`planners.strike.contact.contact_near`, one local IK instead of the contact
-            search, about 30 ms less). The branch then stays the same from one re-plan to
+            search). The branch then stays the same from one re-plan to
             the next, but it may not be the one a cold plan picks (the branch the arm
             reaches soonest), so the motion may take longer. When its solve fails, the
             contact search runs as without a warm start.
@@ -250,6 +250,7 @@ class OptimalControl(CompiledCache):
     _alone_error = alone_error
     _strike_error = strike_error
     _attempt = attempt
+    _pool_strike = plan_pool_strike
     _spec = problem_spec
     _held = held_spec
     _strike_start_held = check_strike_start_held
@@ -364,87 +365,34 @@ class OptimalControl(CompiledCache):
         """:meth:`plan` within its deadline."""
         started = time.perf_counter()
         warm_start = checked_warm_start(problem, warm_start)
-        if isinstance(problem, PoolStrike):  # before any contact search (_spec checks others)
-            self._strike_start_held(problem)
-        tried: list[FloatArray] = []
-        failure: SolverError | None = None
-        # Re-planning from a previous pool solution: first its contact branch, if it still
-        # has room (one local IK instead of the search).
-        seeded = None
-        searching = 0.0  # the contact choices' wall time [s]
-        if self.reuse_contact and isinstance(problem, PoolStrike):
-            seeded = contact_from(problem, warm_start, self.margin)
-            searching = time.perf_counter() - started
-        found: list[ContactChoice] = []  # the searches' choices tried (for the hint)
-        windows: list[WindowRatio | None] = []  # their windows, once a solve was infeasible
-        if seeded is not None:
-            tried.append(seeded.q)
-            outcome = self._attempt(
-                problem, seeded, warm_start, len(tried), started, searching, True
-            )
-            if isinstance(outcome, Trajectory):
-                return outcome
-            if self.contact_retries == 0:  # the one configuration allowed
-                raised = self._alone_error(outcome, problem, seeded, searched=False)
-                raise raised from solver_cause(raised, outcome)
-            failure, warm_start = outcome, None
-        if not isinstance(problem, PoolStrike) or self.contact_retries == 0:
-            spec = self._spec(problem)
-            try:
-                traj = self._plan(problem, spec, warm_start)
-            except SolverError as error:
-                if (
-                    not isinstance(problem, PoolStrike)
-                    or spec.contact is None
-                    or error.status == BUDGET_SPENT
-                ):
-                    raise
-                raised = self._alone_error(error, problem, spec.contact, searched=True)
-                raise raised from solver_cause(raised, error)
-            return stamp(traj, self.name, started, contact_time=searching + spec.contact_time)
-        # The contact search once as set, then once more over twice as many candidates for
-        # branches it missed; a warm start fits the first branch only.
-        for candidates in (self.contact_candidates, 2 * self.contact_candidates):
-            self._in_budget(failure, "the contact search")
-            searched = time.perf_counter()
-            try:
-                choices = contact_choices(
-                    problem,
-                    1 + self.contact_retries,
-                    candidates=candidates,
-                    exclude=tried,
-                    margin=self.margin,
-                )
-            except InfeasibleError:
-                if failure is None:
-                    raise
-                break  # the wider search refused what the first accepted: report the solver
-            finally:
-                searching += time.perf_counter() - searched
-            for choice in choices:
-                tried.append(choice.q)
-                found.append(choice)
-                # After an infeasible solve, a choice is solved from only if its window can
-                # keep within the limits.
-                window = self._window(problem, choice, failure)
-                windows.append(window)
-                if past_the_limits(window):
-                    continue
-                # None after a seeded try, or for a choice on another branch than its own.
-                lend = len(tried) == 1 and lends_to(problem, warm_start, choice)
-                start = warm_start if lend else None
-                outcome = self._attempt(
-                    problem, choice, start, len(tried), started, searching, False
-                )
-                if isinstance(outcome, Trajectory):
-                    return outcome
-                failure = outcome
-                if windows[-1] is None:
-                    windows[-1] = self._window(problem, choice, failure)
-        if failure is None:  # pragma: no cover - the first search returns at least one branch
-            raise SolverError(self.solver, "no contact configuration to solve from")
-        raised = self._strike_error(failure, problem, found, windows)
-        raise raised from solver_cause(raised, failure)
+        if isinstance(problem, PoolStrike):
+            return self._pool_strike(problem, warm_start, started)
+        return self._plan_alone(problem, warm_start, started)
+
+    def _plan_alone(
+        self,
+        problem: Any,
+        warm_start: Trajectory | None,
+        started: float,
+        searching: float = 0.0,
+    ) -> Trajectory:
+        """Plan from the problem's own spec (a strike's from its contact choice only).
+
+        ``searching`` is the wall time of contact choices before it [s].
+        """
+        spec = self._spec(problem)
+        try:
+            traj = self._plan(problem, spec, warm_start)
+        except SolverError as error:
+            if (
+                not isinstance(problem, PoolStrike)
+                or spec.contact is None
+                or error.status == BUDGET_SPENT
+            ):
+                raise
+            raised = self._alone_error(error, problem, spec.contact, searched=True)
+            raise raised from solver_cause(raised, error)
+        return stamp(traj, self.name, started, contact_time=searching + spec.contact_time)
 
     def _plan(self, problem: Any, spec: Spec, warm_start: Trajectory | None) -> Trajectory:
         """Solve from a spec: with no time term, free durations are first minimised."""
@@ -487,11 +435,3 @@ class OptimalControl(CompiledCache):
         with deadline(self._budget()):
             traj = self._solve(built)
         return stamp(traj, self.name, started)
-
-    # -- rounds of solve, verify, refine -----------------------------------------------------
-
-    # -- building ----------------------------------------------------------------------------
-
-    # -- solving -----------------------------------------------------------------------------
-
-    # -- problems ------------------------------------------------------------------------------

@@ -31,12 +31,9 @@ FloatArray = NDArray[np.float64]
 #: Objective terms that can be weighted.
 OBJECTIVES = ("time", "jerk", "effort")
 #: CasADi NLP plugins that can be named (the installed CasADi decides which load). Left
-#: out, as measured with CasADi 3.8.2: fatrop (the transcription is not in its stage-wise
-#: layout: three times slower than IPOPT on a paddle4 move, and on the pool strike NLP it
-#: hangs inside its first iterations) and blocksqp (it needs HSL's MA27, which CasADi's
-#: wheels do not ship).
-#: sqpmethod (qpOASES) plans small problems (a paddle4 move in 0.8 s, IPOPT 0.08 s) but
-#: did not finish a pool strike in 90 s.
+#: out: fatrop (the transcription is not in its stage-wise layout) and blocksqp (it needs
+#: HSL's MA27, which CasADi's wheels do not ship). sqpmethod (qpOASES) suits small problems
+#: only.
 SOLVERS = ("ipopt", "sqpmethod", "bonmin", "knitro", "snopt", "worhp")
 #: Torques above this fraction of their limit get rows at the surrounding nodes [-].
 TORQUE_WATCH = 0.9
@@ -45,12 +42,10 @@ TORQUE_POINTS = 4
 #: Rounds of solve, verify, refine (linear torque rows converge in a few warm rounds).
 ROUNDS = 8
 #: Weight of the term that keeps neighbouring intervals of a free phase alike [-]: small, so
-#: that the nodes of a minimum-time joint move can sit on its jerk switches (within 0.2 % of
-#: the lower bound; 1.0 leaves some 0.2 % above it).
+#: that the nodes of a minimum-time joint move can sit on its jerk switches.
 GRID_WEIGHT = 1e-2
-#: The same weight in a pool strike. Measured on 20 benchmark shots (IPOPT, minimum time):
-#: 1e-2 gave a median NLP time of 284 ms (p95 815 ms); 1.0 gave 161 ms (p95 272 ms) for
-#: motions 0.3 % longer; a uniform grid (``free_grid=False``) 128 ms for 1.2 % longer.
+#: The same weight in a pool strike: larger, for faster solves at the cost of slightly
+#: longer motions (a uniform grid, ``free_grid=False``, is faster and longer still).
 STRIKE_GRID_WEIGHT = 1.0
 #: Shortest interval of a free phase [s].
 MIN_INTERVAL = 1e-4
@@ -69,9 +64,7 @@ SHRINK_EXTRA = 1e-6
 MAX_SHRINK = 0.25
 #: Weight, against 1 at the other nodes, with which a sampled guess keeps its states at phase
 #: ends and on the strike line when it is fitted to the dynamics rows (:func:`integrable`).
-#: Cold iterations on 2 x 40 strike benchmark shots, 95th percentile: 62 and 53 unfitted; 50
-#: and 47 at 30; 50 at 1e3, which left one shot at 86 (a heavy weight over-constrains short
-#: phases, whose both ends it holds).
+#: A much heavier weight over-constrains short phases, whose both ends it holds.
 KEPT_NODE_WEIGHT = 30.0
 #: Weight of the (scaled) jerks in that fit: small, it only settles what the states leave free.
 FIT_JERK_WEIGHT = 1e-3
@@ -79,15 +72,9 @@ FIT_JERK_WEIGHT = 1e-3
 #: largest fraction of a velocity limit the line needs) [-]; see :func:`strike_caps`.
 STRIKE_VELOCITY_ROOM = 3.0
 #: Strike-phase node accelerations stay within this multiple of the ratio squared (the
-#: accelerations the line needs grow with the square of its speed) [-]. Tuned on Sawyer
-#: with ``OptimalControl("time")`` on the first 20 balls of ``benchmarks/strike.py`` at each
-#: speed, each planned after an untimed plan of it that compiles its NLPs. Without bounds:
-#: at 0.1 m/s 18/20 shots needed a finer strike grid (median plan 1.04 s), and the first 8
-#: balls at 0.03 m/s all failed (a SolverError after 8 rounds, about 9 s each). With 3 and
-#: 10: 20/20 at 0.03, 0.1, 0.2, 0.5 and 1 m/s, median plans 0.47, 0.31, 0.19, 0.12 and 0.11 s.
-#: Motions were up to 1 % longer at 0.1 m/s, within 0.01 % at 0.5 m/s and the same at 1 m/s
-#: (ratios 0.52 to 0.90 there, where both bounds lie past the limits). A factor of 20 left
-#: 4/20 shots at 0.1 m/s needing a finer grid.
+#: accelerations the line needs grow with the square of its speed) [-]. Without these bounds
+#: slow strikes spend their long window on self-motion that carries the cue off its line
+#: between nodes; at the usual speeds both bounds lie past the limits.
 STRIKE_ACCELERATION_ROOM = 10.0
 #: A pool strike whose contact configurations all need more than this fraction of a velocity
 #: limit is near the fastest speed they allow: once the NLP is found infeasible, the error says
@@ -95,10 +82,8 @@ STRIKE_ACCELERATION_ROOM = 10.0
 TIGHT_RATIO = HEADROOM
 #: The solver statuses of an NLP found (locally) infeasible.
 INFEASIBLE_STATUSES = frozenset({"Infeasible_Problem_Detected", "Restoration_Failed"})
-#: Default wall-time budget of one plan [s] (``OptimalControl(time_budget=...)``). Plans of
-#: the strike benchmark take 0.1 to 2.3 s, the slowest feasible strikes measured (0.07 m/s
-#: with effort limits at 22 % of Sawyer's) about 30 s; past a minute a solve is lost in a
-#: problem it will not settle.
+#: Default wall-time budget of one plan [s] (``OptimalControl(time_budget=...)``): well past
+#: the slowest feasible plans; beyond it a solve is lost in a problem it will not settle.
 TIME_BUDGET = 60.0
 #: :attr:`optraj.errors.SolverError.status` of a plan stopped because its time budget is spent.
 BUDGET_SPENT = "time budget spent"

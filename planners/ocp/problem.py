@@ -1,13 +1,17 @@
-"""The data of an optimal control problem: phase grids, warm starts, specs and the built NLP."""
+"""The data of an optimal control problem: phase grids, warm starts, specs and the built NLP.
+
+:class:`FixedState` is :mod:`planners.ocp.task_rows.boundary_state`'s, re-exported here.
+"""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from optraj.planners.ocp.task_rows import FixedState, StrikeLineRows, TaskRows
 from optraj.planners.ocp.transcription import (
     CompiledNLP,
     Structure,
@@ -20,6 +24,14 @@ from optraj.robots import JointLimits, Robot
 from optraj.validation import (
     as_vector,
 )
+
+__all__ = [
+    "FixedState",
+    "OptimalControlProblem",
+    "PhaseGrid",
+    "Spec",
+    "WarmStart",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -70,7 +82,7 @@ class OptimalControlProblem:
         x0: Initial guess of the decision vector.
         lbx: Lower bounds of the decision vector (fixed states have equal bounds).
         ubx: Upper bounds.
-        p: Parameter values (see :data:`planners.ocp.transcription.PARAMETERS`).
+        p: Parameter values, named by ``compiled.parameters``.
         lam_x0: Initial bound multipliers (a warm start), or None.
         lam_g0: Initial constraint multipliers, or None.
         contact: The chosen contact configuration of a strike, or None.
@@ -93,6 +105,14 @@ class OptimalControlProblem:
     def variables(self) -> int:
         """Number of decision variables."""
         return int(self.x0.size)
+
+    def parameter(self, name: str) -> FloatArray:
+        """The value of the NLP parameter ``name`` (e.g. ``"time_scale"``, ``"speed"``).
+
+        Raises:
+            UnknownNameError: A parameter this NLP does not have.
+        """
+        return self.compiled.parameters.value(self.p, name)
 
     @property
     def constraints(self) -> int:
@@ -123,20 +143,8 @@ class OptimalControlProblem:
 
 
 @dataclass
-class FixedState:
-    """A node state pinned by bounds: ``phase`` start or end; None entries stay free."""
-
-    phase: int
-    at: str
-    q: FloatArray | None
-    qd: FloatArray | None
-    qdd: FloatArray | None
-    tolerance: float = 0.0
-
-
-@dataclass
 class Spec:
-    """A problem turned into phases, fixed states, parameters and a first guess."""
+    """A problem turned into phases, fixed states, task rows and a first guess."""
 
     robot: Robot
     limits: JointLimits
@@ -144,9 +152,12 @@ class Spec:
     durations: tuple[float | None, ...]
     guess: Trajectory
     fixed: list[FixedState]
-    params: dict[str, Any] = field(default_factory=dict)
-    strike_phase: int = -1
-    contact_phase: int = -1
+    tasks: tuple[TaskRows, ...] = ()
     contact: ContactChoice | None = None
     intervals: tuple[int, ...] | None = None  # grid forced by a warm start
     contact_time: float = 0.0  # wall time of the contact choice [s]
+
+    @property
+    def strike(self) -> StrikeLineRows | None:
+        """The strike line's rows, or None for a problem without a strike line."""
+        return next((task for task in self.tasks if isinstance(task, StrikeLineRows)), None)

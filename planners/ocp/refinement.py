@@ -56,12 +56,11 @@ def fixed_room(
     index = {node: i for i, node in enumerate(nodes)}
     room: FloatArray | None = None
     for fixed in spec.fixed:
-        if fixed.q is None or fixed.qd is None or fixed.qdd is None or fixed.tolerance:
+        state = fixed.exact()
+        node = fixed.node(first)
+        if state is None or node not in index:
             continue
-        node = int(first[fixed.phase] if fixed.at == "start" else first[fixed.phase + 1])
-        if node not in index:
-            continue
-        tau = spec.robot.inverse_dynamics(fixed.q, fixed.qd, fixed.qdd)
+        tau = spec.robot.inverse_dynamics(*state)
         left = np.maximum(1.0 - np.abs(tau) / spec.limits.effort, 0.0)
         if room is None:
             room = np.array(np.broadcast_to(margin, (len(nodes), spec.limits.n)), dtype=float)
@@ -73,9 +72,10 @@ def fixed_ratios(spec: Spec) -> FloatArray:
     """Each joint's largest ``|tau| / effort`` over the problem's fully fixed states [-], (n,)."""
     ratios = np.zeros(spec.limits.n)
     for fixed in spec.fixed:
-        if fixed.q is None or fixed.qd is None or fixed.qdd is None or fixed.tolerance:
+        state = fixed.exact()
+        if state is None:
             continue
-        tau = spec.robot.inverse_dynamics(fixed.q, fixed.qd, fixed.qdd)
+        tau = spec.robot.inverse_dynamics(*state)
         ratios = np.maximum(ratios, np.abs(tau) / spec.limits.effort)
     return ratios
 
@@ -103,8 +103,7 @@ def strike_caps(ratio: float, keep: float = 1.0) -> tuple[float, float]:
     Returns:
         ``(velocity, acceleration)``: :data:`STRIKE_VELOCITY_ROOM` times ``ratio`` and
         :data:`STRIKE_ACCELERATION_ROOM` times its square, each at most ``keep`` [-].
-        The 99 benchmark shots at 1 m/s that Sawyer can strike need ratios of 0.52 to 0.90,
-        so the caps bind only in slower strikes.
+        The caps bind only in slow strikes.
 
     Raises:
         InvalidInputError: A ratio that is not a finite number >= 0, or ``keep`` outside

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -9,6 +10,7 @@ from numpy.typing import NDArray
 
 from optraj.errors import (
     InfeasibleError,
+    OptrajError,
     SolverError,
 )
 from optraj.planners.ocp.options import (
@@ -36,6 +38,7 @@ from optraj.planners.ocp.solution import (
     with_totals,
 )
 from optraj.planners.trajectory import Trajectory
+from optraj.robots import JointLimits
 
 if TYPE_CHECKING:
     from optraj.planners.ocp.optimal_control import OptimalControl
@@ -53,10 +56,174 @@ def round_weights(
         weights = {"jerk": 1.0}  # nothing to shorten: the smoothest motion in the time
     if planner.regularization > 0.0:
         weights["jerk"] = weights.get("jerk", 0.0) + planner.regularization
-        weights["grid"] = GRID_WEIGHT if spec.strike_phase < 0 else STRIKE_GRID_WEIGHT
+        weights["grid"] = GRID_WEIGHT if spec.strike is None else STRIKE_GRID_WEIGHT
         if robot.dof >= 7:
             weights["posture"] = planner.regularization
     return weights
+
+
+@dataclass
+class RoundSettings:
+    """What a round is built with; each round's findings change it for the next.
+
+    Attributes:
+        torque_nodes: Nodes with torque rows.
+        position_rows: Whether positions are bounded between nodes by rows.
+        shrink: Node position bounds moved in, shape (nodes, 2, n) [rad or m], or None.
+        shrinks: Rounds that moved them so far.
+        strike_scale: Factor on the strike window's intervals.
+        torque_margin: Fraction of the torque limits RNEA rows keep free [-].
+        row_margins: Linear rows' margins per row node and joint [-], or None for
+            ``torque_margin`` everywhere.
+        expansions: Rounds in a row solved with linear torque rows.
+    """
+
+    torque_nodes: tuple[int, ...] = ()
+    position_rows: bool = False
+    shrink: FloatArray | None = None
+    shrinks: int = 0
+    strike_scale: int = 1
+    torque_margin: float = 0.0
+    row_margins: FloatArray | None = None
+    expansions: int = 0
+
+    @classmethod
+    def first(
+        cls, planner: OptimalControl, spec: Spec, warm_start: Trajectory | None
+    ) -> RoundSettings:
+        """The first round's: the planner's, or a previous solution's grid and rows.
+
+        A warm start of the same phases lends its grid and its torque rows (so that its
+        multipliers apply too) to ``spec`` and to the first round.
+        """
+        settings = cls(
+            position_rows=planner.position_rows is True, torque_margin=planner.torque_margin
+        )
+        saved = None if warm_start is None else warm_start.metadata.get("warm_start")
+        if isinstance(saved, WarmStart) and len(saved.structure.intervals) == len(spec.names):
+            spec.intervals = saved.structure.intervals
+            settings.torque_nodes = saved.structure.torque_nodes
+            settings.position_rows = settings.position_rows or saved.structure.position_rows
+        return settings
+
+    def finer_strike(self) -> None:
+        """Twice the strike intervals: the nodes are renumbered, so rows and moves start over."""
+        self.strike_scale *= 2
+        self.torque_nodes, self.row_margins, self.expansions = (), None, 0
+        self.shrink, self.shrinks = None, 0
+
+    def fitted_positions(self, excess: FloatArray, limits: JointLimits) -> None:
+        """After a piece passed a position limit between nodes (``excess``, (K, 2, n)).
+
+        Its nodes' bounds move in (the same NLP, warm) up to :data:`POSITION_SHRINKS`
+        times; when that does not settle, rows bound positions between nodes from then on.
+        """
+        if self.shrinks < POSITION_SHRINKS:
+            self.shrink = shrunk(self.shrink, excess, limits)
+            self.shrinks += 1
+        else:
+            self.position_rows, self.shrink = True, None
+
+    def more_torque_rows(
+        self,
+        planner: OptimalControl,
+        found: RoundFindings,
+        rows: tuple[int, ...],
+        spec: Spec,
+    ) -> None:
+        """Torque rows at the ``found`` nodes too, with more room where rows did not hold.
+
+        ``rows`` are the round's torque nodes. Linear rows are at every node: the next round
+        expands about this solution. From the second expansion about a solution with rows
+        on, rows whose torques still break the limit (at or between their nodes) keep more
+        room, so that rounds which swap the binding nodes back and forth settle. RNEA rows
+        needed everywhere already keep more room, all of them.
+        """
+        if found.ratios is None:  # pragma: no cover - torque nodes come from ratios
+            return
+        if planner.torque_rows == "linear":
+            self.expansions = self.expansions + 1 if rows else 0
+            if self.expansions >= 2:
+                if self.row_margins is None:
+                    self.row_margins = np.full((len(rows), spec.limits.n), self.torque_margin)
+                self.row_margins = tightened(
+                    self.row_margins, found.ratios[2] / spec.limits.effort, fixed_ratios(spec)
+                )
+        elif set(found.more) <= set(rows):
+            self.torque_margin = min(0.2, 2.0 * self.torque_margin + 0.01)
+        self.torque_nodes = tuple(sorted(set(self.torque_nodes) | set(found.more)))
+
+
+@dataclass
+class RoundFindings:
+    """What the checks after a solve found.
+
+    Attributes:
+        ratios: :func:`torque_ratios` of the solution, or None.
+        more: Nodes that need torque rows (:func:`torque_nodes`); empty when none.
+        misses: The strike line's misses between nodes (:func:`strike_misses`).
+        excess: :func:`position_excess` of the solution, or None when rows bound positions.
+        plain: Whether the round had neither torque rows nor moved bounds (nothing but the
+            grid that a new round could change).
+    """
+
+    ratios: tuple[FloatArray, FloatArray, FloatArray] | None
+    more: list[int]
+    misses: list[tuple[str, float, float, str]]
+    excess: FloatArray | None
+    plain: bool
+
+    @property
+    def positions_ok(self) -> bool:
+        """Whether the positions kept their limits between nodes."""
+        return self.excess is None or not self.excess.any()
+
+    @property
+    def settled(self) -> bool:
+        """Whether nothing calls for another round."""
+        return not self.more and not self.misses and self.positions_ok
+
+
+def round_findings(
+    planner: OptimalControl,
+    traj: Trajectory,
+    built: OptimalControlProblem,
+    spec: Spec,
+    settings: RoundSettings,
+) -> RoundFindings:
+    """Check a round's solution: torques, the strike line and positions between nodes."""
+    ratios = planner._torque_ratios(traj, spec)
+    return RoundFindings(
+        ratios=ratios,
+        more=[] if planner.torque is False else planner._torque_nodes(traj, ratios, built, spec),
+        misses=planner._strike_misses(traj, spec),
+        excess=None if settings.position_rows else position_excess(traj, spec.limits),
+        plain=not built.compiled.structure.torque_nodes and settings.shrink is None,
+    )
+
+
+def refined(
+    planner: OptimalControl,
+    settings: RoundSettings,
+    found: RoundFindings,
+    built: OptimalControlProblem,
+    spec: Spec,
+) -> bool:
+    """Change ``settings`` by a round's findings; False when no new round could help.
+
+    Positions first (moved bounds or rows); then a finer strike grid for a strike line
+    missed between nodes (it renumbers the nodes, so torque rows wait), else torque rows.
+    """
+    if found.excess is not None and found.excess.any():
+        settings.fitted_positions(found.excess, spec.limits)
+    if found.misses:
+        intervals = _strike_intervals(built, spec)
+        if intervals >= MAX_STRIKE_INTERVALS and found.plain and found.positions_ok:
+            return False  # no finer grid, and nothing else that a new round would drop
+        settings.finer_strike()
+    elif found.more and found.ratios is not None:
+        settings.more_torque_rows(planner, found, built.compiled.structure.torque_nodes, spec)
+    return True
 
 
 def solve_rounds(
@@ -66,114 +233,88 @@ def solve_rounds(
     weights: dict[str, float],
     warm_start: Trajectory | None,
 ) -> Trajectory:
-    """Solve ``spec`` in rounds, adding torque and position rows and finer grids until they hold."""
-    torque_nodes: tuple[int, ...] = ()
-    position_rows = planner.position_rows is True
-    shrink: FloatArray | None = None  # node bounds moved in, (nodes, 2, n) [rad or m]
-    shrinks = 0
-    strike_scale = 1
-    saved = None if warm_start is None else warm_start.metadata.get("warm_start")
-    if isinstance(saved, WarmStart) and len(saved.structure.intervals) == len(spec.names):
-        # Same grid and torque rows as the previous solution, so its duals apply too.
-        spec.intervals = saved.structure.intervals
-        torque_nodes = saved.structure.torque_nodes
-        position_rows = position_rows or saved.structure.position_rows
-    torque_margin = planner.torque_margin
-    row_margins: FloatArray | None = None  # linear rows: per node and joint
-    expansions = 0  # rounds in a row solved with linear rows
+    """Solve ``spec`` in rounds, adding torque and position rows and finer grids until they hold.
+
+    Raises:
+        InfeasibleError: Torques that stay past their limits with rows.
+        SolverError: Rounds that do not settle, or a strike line missed between nodes on
+            the finest grid.
+    """
+    settings = RoundSettings.first(planner, spec, warm_start)
     solves: list[Trajectory] = []
     for round_ in range(1, ROUNDS + 1):
         built = planner._build(
             problem,
             spec,
             weights,
-            torque_nodes,
-            strike_scale,
+            settings.torque_nodes,
+            settings.strike_scale,
             warm_start,
-            torque_margin,
-            row_margins,
-            position_rows,
-            shrink,
+            settings.torque_margin,
+            settings.row_margins,
+            settings.position_rows,
+            settings.shrink,
         )
         traj = planner._solve(built)
         solves.append(traj)
-        # Nothing but the grid to change: no torque rows, no moved bounds, no new rows.
-        plain = not built.compiled.structure.torque_nodes and shrink is None
-        ratios = planner._torque_ratios(traj, spec)
-        more = [] if planner.torque is False else planner._torque_nodes(traj, ratios, built, spec)
-        misses = planner._strike_misses(traj, problem, spec)
-        strike_ok = not misses
-        excess = None if position_rows else position_excess(traj, spec.limits)
-        positions_ok = excess is None or not excess.any()
-        if not more and strike_ok and positions_ok:
+        found = round_findings(planner, traj, built, spec, settings)
+        if found.settled:
             with_totals(traj, solves)
             traj.metadata["rounds"] = round_
             traj.metadata["torque_rows"] = len(built.compiled.structure.torque_nodes)
-            traj.metadata["position_rows"] = position_rows
+            traj.metadata["position_rows"] = settings.position_rows
             return traj
-        if not positions_ok and shrinks < POSITION_SHRINKS:
-            # A piece passed a limit between nodes: its nodes' bounds move in, warm.
-            shrink = shrunk(shrink, excess, spec.limits)
-            shrinks += 1
-        elif not positions_ok:  # it does not settle: rows from now on
-            position_rows, shrink = True, None
-        if not strike_ok:  # a finer strike grid renumbers the nodes
-            strike_intervals = built.compiled.structure.intervals[spec.strike_phase]
-            if strike_intervals >= MAX_STRIKE_INTERVALS and plain and positions_ok:
-                break  # no finer grid, and nothing else that a new round would drop
-            strike_scale *= 2
-            torque_nodes, row_margins, expansions = (), None, 0
-            shrink, shrinks = None, 0
-        elif more and ratios is not None:
-            rows = built.compiled.structure.torque_nodes
-            if planner.torque_rows == "linear":
-                # Rows at every node: the next round expands about this solution. From
-                # the second expansion about a solution with rows on, rows whose torques
-                # still break the limit (at or between their nodes) keep more room, so
-                # that rounds which swap the binding nodes back and forth settle.
-                expansions = expansions + 1 if rows else 0
-                if expansions >= 2:
-                    if row_margins is None:
-                        row_margins = np.full((len(rows), spec.limits.n), torque_margin)
-                    row_margins = tightened(
-                        row_margins, ratios[2] / spec.limits.effort, fixed_ratios(spec)
-                    )
-            elif set(more) <= set(rows):  # rows everywhere needed: keep more room
-                torque_margin = min(0.2, 2.0 * torque_margin + 0.01)
-            torque_nodes = tuple(sorted(set(torque_nodes) | set(more)))
+        if not refined(planner, settings, found, built, spec):
+            break
         warm_start = traj
+    raise unsettled(planner, found, built, spec, round_)
+
+
+def unsettled(
+    planner: OptimalControl,
+    found: RoundFindings,
+    built: OptimalControlProblem,
+    spec: Spec,
+    rounds: int,
+) -> OptrajError:
+    """The error of a plan whose last round (``found``, of ``built``) still did not settle."""
     torque_rows = built.compiled.structure.torque_nodes
+    ratios = found.ratios
     if torque_rows and ratios is not None and ratios[1].max() > 1.0:
         tau = ratios[2]
         i, j = np.unravel_index(int(np.argmax(np.abs(tau) / spec.limits.effort)), tau.shape)
         joint, value = spec.limits.names[j], float(tau[i, j])
         limit = float(spec.limits.effort[j])
-        raise InfeasibleError(
+        return InfeasibleError(
             f"torque of {joint} stays at {value:.4g} N m (limit {limit:.4g}) after "
-            f"{round_} rounds, the last with torque rows at {len(torque_rows)} nodes",
+            f"{rounds} rounds, the last with torque rows at {len(torque_rows)} nodes",
             limit="effort",
             joint=joint,
             required=value,
             allowed=limit,
         )
-    if not misses:
-        unsettled = "position limits" if not positions_ok else "torque rows"
-        raise SolverError(
-            planner.solver, f"{unsettled} not settled", detail=f"after {round_} rounds"
-        )
+    if not found.misses:
+        what = "position limits" if not found.positions_ok else "torque rows"
+        return SolverError(planner.solver, f"{what} not settled", detail=f"after {rounds} rounds")
     what = "; ".join(
         f"{name} {value:.3g} {unit} (plans keep it within {allowed:.3g} {unit}, half the tolerance)"
-        for name, value, allowed, unit in misses
+        for name, value, allowed, unit in found.misses
     )
     if ratios is not None and ratios[1].max() > 1.0:
         what += f"; torques up to {ratios[1].max():.3g} of their limits"
-    intervals = built.compiled.structure.intervals[spec.strike_phase]
-    raise SolverError(
+    return SolverError(
         planner.solver,
         "strike line not met between nodes",
-        detail=f"with {intervals} strike intervals after {round_} rounds: {what}; a looser "
-        f"tolerance or a faster strike (a shorter window) may pass",
+        detail=f"with {_strike_intervals(built, spec)} strike intervals after {rounds} rounds: "
+        f"{what}; a looser tolerance or a faster strike (a shorter window) may pass",
     )
+
+
+def _strike_intervals(built: OptimalControlProblem, spec: Spec) -> int:
+    """The strike window's intervals in ``built`` (0 without a strike line)."""
+    if spec.strike is None:
+        return 0
+    return built.compiled.structure.intervals[spec.strike.phase]
 
 
 def torque_ratios(traj: Trajectory, spec: Spec) -> tuple[FloatArray, FloatArray, FloatArray] | None:
@@ -221,41 +362,10 @@ def torque_nodes(
 
 
 def strike_misses(
-    planner: OptimalControl, traj: Trajectory, problem: Any, spec: Spec
+    planner: OptimalControl, traj: Trajectory, spec: Spec
 ) -> list[tuple[str, float, float, str]]:
-    """Where the cue tip leaves its schedule between the strike nodes.
+    """Where the cue tip leaves its schedule between the strike nodes (none without a line).
 
-    Returns:
-        ``(what, worst, allowed, unit)`` for each of the distance to the schedule [mm],
-        the cue axis's angle to the direction [deg] and the relative speed error [%]
-        that passes half its tolerance; empty when the strike stays on schedule.
+    :meth:`planners.ocp.task_rows.strike_line.StrikeLineRows.misses` of the spec's line.
     """
-    if spec.strike_phase < 0:
-        return []
-    phase = traj.phase("strike")
-    knots = traj.breakpoints
-    inside = knots[(knots >= phase.t_start - 1e-12) & (knots <= phase.t_end + 1e-12)]
-    fractions = np.array([0.25, 0.5, 0.75])
-    times = (inside[:-1, None] + fractions[None, :] * np.diff(inside)[:, None]).reshape(-1)
-    s = traj.sample(times)
-    robot = spec.robot
-    poses = robot.tool_pose(s.q)
-    direction = np.asarray(problem.direction)
-    speed = float(problem.speed)
-    schedule = problem.entry_point + speed * (times - phase.t_start)[:, None] * direction
-    gap = np.max(np.linalg.norm(poses[:, :3, 3] - schedule, axis=1))
-    axis = np.clip(poses[:, :3, 2] @ direction, -1.0, 1.0)
-    angle = np.max(np.arccos(axis))
-    jac = robot.jacobian(s.q)
-    velocity = np.einsum("kij,kj->ki", jac[:, :3, :], s.qd)
-    speed_error = np.max(np.linalg.norm(velocity - speed * direction, axis=1)) / speed
-    measured = (
-        ("distance to the schedule", 1e3 * gap, 1e3 * problem.position_tolerance, "mm"),
-        ("cue axis angle", np.degrees(angle), np.degrees(problem.angle_tolerance), "deg"),
-        ("speed error", 100 * speed_error, 100 * problem.speed_tolerance, "%"),
-    )
-    return [
-        (name, float(value), 0.5 * float(tolerance), unit)
-        for name, value, tolerance, unit in measured
-        if not value <= 0.5 * tolerance
-    ]
+    return [] if spec.strike is None else spec.strike.misses(traj, spec.robot)

@@ -1,19 +1,19 @@
-"""Constraint rows of the transcription: bounds of each group, torque expansions, task rows."""
+"""Constraint rows of the transcription, collected by group; the torque rows' coefficients.
+
+The task rows (strike line, tool contact) are in :mod:`planners.ocp.task_rows`.
+"""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import casadi as ca
 import numpy as np
 from numpy.typing import NDArray
 
-from optraj.planners.ocp.structure import (
-    Layout,
-    Structure,
-)
-from optraj.robots import JointLimits, SymbolicModel
+from optraj.planners.ocp.structure import Structure
+from optraj.robots import JointLimits
 
 if TYPE_CHECKING:
     from optraj.planners.ocp.transcription import CompiledNLP
@@ -93,7 +93,7 @@ def structure_limits(limits: JointLimits) -> tuple[tuple[float, ...], ...]:
 
 
 def torque_parameter_count(structure: Structure) -> int:
-    """Parameters of the linear torque rows, after :data:`PARAMETERS` (0 for RNEA rows)."""
+    """Size of the linear torque rows' parameter ``torque`` (0 for RNEA rows)."""
     if structure.torque_rows != "linear":
         return 0
     n = len(structure.limits[0])
@@ -134,82 +134,3 @@ def torque_linearization(
     b = scale[:, :, None] * jac
     blocks = [np.concatenate([c[i], b[i].reshape(-1, order="F")]) for i in range(len(nodes))]
     return np.concatenate(blocks)
-
-
-def strike_rows(
-    rows: Rows,
-    structure: Structure,
-    layout: Layout,
-    symbolic: SymbolicModel,
-    params: dict[str, ca.SX],
-    h: list[ca.SX],
-    state: Any,
-) -> None:
-    """Cue tip on the schedule, cue axis on the line at every node; speed at entry and exit."""
-    ph = structure.strike_phase
-    tool = (
-        symbolic.frame_position(structure.tool_frame),
-        symbolic.frame_rotation(structure.tool_frame),
-        symbolic.frame_jacobian(structure.tool_frame),
-    )
-    entry, d = params["entry"], params["direction"]
-    first, last = int(layout.first_node[ph]), int(layout.first_node[ph + 1])
-    for j, node in enumerate(range(first, last + 1)):
-        q, qd, _ = state(node)
-        target = entry + params["speed"] * ca.sum1(ca.vertcat(0, *h[first : first + j])) * d
-        strike_node_rows(rows, tool, params, q, qd, target, node in (first, last), node)
-
-
-def strike_node_rows(
-    rows: Rows,
-    tool: tuple[ca.Function, ca.Function, ca.Function],
-    params: dict[str, ca.SX],
-    q: ca.SX,
-    qd: ca.SX,
-    target: ca.SX,
-    at_end: bool,
-    node: int = -1,
-) -> None:
-    """The strike line's rows at one node, shared by the NLP and the window check.
-
-    The cue tip at ``target`` [m], the cue axis along the direction (its two components across
-    it zero, and pointing forward), and at the window's ends (``at_end``) the tip velocity
-    ``speed * direction`` [m/s].
-
-    Args:
-        rows: The rows to add to.
-        tool: The tool frame's position, rotation and Jacobian as functions of q.
-        params: ``direction``, ``e1``, ``e2`` (the unit vectors across it) and ``speed``.
-        q: Joint positions [rad or m].
-        qd: Joint velocities [rad/s or m/s].
-        target: The tip's place on the schedule [m].
-        at_end: Whether the node is the window's first or last.
-        node: The node's index, to label the rows with (-1: none).
-    """
-    position, rotation, jacobian = tool
-    d, e1, e2 = params["direction"], params["e1"], params["e2"]
-    rows.add("strike position", position(q) - target, 0.0, 0.0, at=node)
-    z = rotation(q)[:, 2]
-    rows.add("strike axis", ca.vertcat(ca.dot(e1, z), ca.dot(e2, z)), 0.0, 0.0, at=node)
-    rows.add("strike axis sign", ca.dot(d, z), 0.0, np.inf, at=node)
-    if at_end:
-        speed = jacobian(q)[:3, :] @ qd - params["speed"] * d
-        rows.add("strike speed", speed, 0.0, 0.0, at=node)
-
-
-def contact_rows(
-    rows: Rows,
-    structure: Structure,
-    symbolic: SymbolicModel,
-    params: dict[str, ca.SX],
-    state: Any,
-) -> None:
-    """Velocity of the contact point (``offset`` along tool z) at the contact node."""
-    rotation = symbolic.frame_rotation(structure.tool_frame)
-    jacobian = symbolic.frame_jacobian(structure.tool_frame)
-    q, qd, _ = state(structure.contact_node)
-    jac = jacobian(q)
-    lever = params["offset"] * rotation(q)[:, 2]
-    twist = jac @ qd
-    velocity = twist[:3] + ca.cross(twist[3:], lever)
-    rows.add("contact velocity", velocity - params["contact_velocity"], 0.0, 0.0)

@@ -187,14 +187,12 @@ def integrable(
     """The node states and jerks nearest those of ``w`` that meet the dynamics rows exactly.
 
     A guess sampled at the nodes breaks the triple-integrator rows wherever its jerk is not
-    constant over an interval (a Ruckig move switches jerk between nodes; on long approaches
-    the scaled defects reach 0.7), and IPOPT spends its first iterations repairing them. Per
+    constant over an interval (a Ruckig move switches jerk between nodes), and IPOPT spends
+    its first iterations repairing them. Per
     joint, with the interval lengths of ``w``, the node states are linear in the first state
     and the interval jerks; those are fitted by least squares to the sampled states, in the
     NLP's scaling, with the ``kept`` nodes (phase ends, the strike line) weighted
-    :data:`KEPT_NODE_WEIGHT` and the jerks :data:`FIT_JERK_WEIGHT`. It leaves the median
-    iteration count of cold strikes as it was and shortens the slowest solves (see
-    :data:`KEPT_NODE_WEIGHT`).
+    :data:`KEPT_NODE_WEIGHT` and the jerks :data:`FIT_JERK_WEIGHT`.
     """
     mid, half, velocity, acceleration, jerk = scale
     n, count = layout.n, layout.K

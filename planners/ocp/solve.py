@@ -57,21 +57,21 @@ def call_solver(
             result = solver(**args)
         except RuntimeError as error:  # the plugin raised instead of returning a status
             stats = solver.stats()
-            failure = SolverError(
+            raised = SolverError(
                 planner.solver,
                 str(stats.get("return_status", "exception")),
                 iterations=int(stats.get("iter_count", -1)),
                 detail=casadi_reason(str(error)),
             )
-            failure.__cause__ = error
+            raised.__cause__ = error
             wall = time.perf_counter() - started
-            return SolverCall(np.zeros(0), {}, stats, wall, math.inf, failure)
+            return SolverCall(np.zeros(0), {}, stats, wall, math.inf, raised)
         wall = time.perf_counter() - started
         stats = solver.stats()
     w = np.asarray(result["x"]).reshape(-1)
     violations = built._violations(w)
     worst = max(violations.values())
-    failure = None
+    failure: SolverError | None = None
     if not stats.get("success", False) or not np.all(np.isfinite(w)) or worst > 1e-6:
         failure = SolverError(
             planner.solver,
@@ -150,7 +150,7 @@ def solve_built(planner: OptimalControl, built: OptimalControlProblem) -> Trajec
                 w,
                 np.asarray(call.result["lam_x"]).reshape(-1),
                 np.asarray(call.result["lam_g"]).reshape(-1),
-                float(built.p[0]),  # time_scale, the first parameter
+                float(built.parameter("time_scale")[0]),
             ),
         }
     )

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import time
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -18,8 +20,11 @@ from optraj.planners.ocp.failures import (
     detailed_failure,
     near_the_limit,
     past_the_limits,
+    solver_cause,
 )
 from optraj.planners.ocp.formulation import (
+    contact_from,
+    lends_to,
     pool_spec,
 )
 from optraj.planners.ocp.options import (
@@ -28,6 +33,7 @@ from optraj.planners.ocp.options import (
 )
 from optraj.planners.strike.contact import (
     ContactChoice,
+    contact_choices,
 )
 from optraj.planners.strike.window_check import WindowRatio
 from optraj.planners.trajectory import Trajectory
@@ -45,9 +51,8 @@ def window_ratio(
     """The window check of a choice once a solve was found infeasible, else None.
 
     Whatever the choice's velocity ratio: the contact choice checks three configurations
-    of the line, and its window can need more than the limits at a ratio of 0.75 (strike
-    benchmark ball 15 at 1.2 m/s, second choice: 1.05). None too when the check has no
-    answer (no IK start on the line, no finite point).
+    of the line only, and a window can need more than the limits at a ratio well below 1.
+    None too when the check has no answer (no IK start on the line, no finite point).
     """
     if failure is None or failure.status not in INFEASIBLE_STATUSES:
         return None
@@ -149,3 +154,156 @@ def attempt(
     traj.metadata["contact_attempts"] = attempt
     traj.metadata["contact_from_warm_start"] = from_warm_start
     return stamp(traj, planner.name, started, contact_time=searching)
+
+
+@dataclass
+class StrikeSearch:
+    """A pool strike's contact configurations tried so far and what their solves found.
+
+    Attributes:
+        started: When the plan started (``time.perf_counter()``) [s].
+        searching: Wall time of the contact choices so far [s].
+        tried: The configurations solved from (or skipped), to exclude from new searches.
+        found: The searches' choices tried, for the error's hint.
+        windows: Their window checks, once a solve was found infeasible (else None).
+        failure: The last solver failure, or None.
+    """
+
+    started: float
+    searching: float = 0.0
+    tried: list[FloatArray] = field(default_factory=list)
+    found: list[ContactChoice] = field(default_factory=list)
+    windows: list[WindowRatio | None] = field(default_factory=list)
+    failure: SolverError | None = None
+
+
+def plan_pool_strike(
+    planner: OptimalControl, problem: PoolStrike, warm_start: Trajectory | None, started: float
+) -> Trajectory:
+    """Plan a pool strike, trying further contact configurations while solves fail.
+
+    A warm start's contact branch first (when it still has room, one local IK instead of
+    the search), then the contact search's choices, once as set and once more over twice as
+    many candidates for branches the first missed (``contact_retries`` of them each time).
+    After an infeasible solve, a choice is solved from only if its window can keep within
+    the limits.
+
+    Raises:
+        InfeasibleError: No contact configuration can make the strike.
+        SolverError: Every solve failed (the last failure, with the search's hint).
+    """
+    planner._strike_start_held(problem)
+    search = StrikeSearch(started)
+    if planner.reuse_contact:
+        seeded = contact_from(problem, warm_start, planner.margin)
+        search.searching = time.perf_counter() - started
+        if seeded is not None:
+            outcome = seeded_attempt(planner, problem, seeded, warm_start, search)
+            if outcome is not None:
+                return outcome
+            warm_start = None  # its branch failed: the search's choices start cold
+    if planner.contact_retries == 0:
+        return planner._plan_alone(problem, warm_start, started, search.searching)
+    for candidates in (planner.contact_candidates, 2 * planner.contact_candidates):
+        choices = searched_choices(planner, problem, candidates, search)
+        if choices is None:
+            break  # the wider search refused what the first accepted: report the solver
+        for choice in choices:
+            outcome = choice_attempt(planner, problem, choice, warm_start, search)
+            if outcome is not None:
+                return outcome
+    if search.failure is None:  # pragma: no cover - the first search returns a branch
+        raise SolverError(planner.solver, "no contact configuration to solve from")
+    raised = planner._strike_error(search.failure, problem, search.found, search.windows)
+    raise raised from solver_cause(raised, search.failure)
+
+
+def seeded_attempt(
+    planner: OptimalControl,
+    problem: PoolStrike,
+    seeded: ContactChoice,
+    warm_start: Trajectory | None,
+    search: StrikeSearch,
+) -> Trajectory | None:
+    """Plan from a warm start's contact branch; None when that failed (in ``search``).
+
+    Raises:
+        SolverError: It failed and ``contact_retries=0`` allows no other configuration.
+    """
+    search.tried.append(seeded.q)
+    outcome = planner._attempt(
+        problem, seeded, warm_start, len(search.tried), search.started, search.searching, True
+    )
+    if isinstance(outcome, Trajectory):
+        return outcome
+    if planner.contact_retries == 0:  # the one configuration allowed
+        raised = planner._alone_error(outcome, problem, seeded, searched=False)
+        raise raised from solver_cause(raised, outcome)
+    search.failure = outcome
+    return None
+
+
+def searched_choices(
+    planner: OptimalControl, problem: PoolStrike, candidates: int, search: StrikeSearch
+) -> tuple[ContactChoice, ...] | None:
+    """The contact search's new branches over ``candidates`` configurations.
+
+    None when it refuses the strike after a solve failed (the solver's failure is then the
+    better report).
+
+    Raises:
+        InfeasibleError: It refuses the strike before any solve.
+        SolverError: The plan's time budget is spent.
+    """
+    planner._in_budget(search.failure, "the contact search")
+    searched = time.perf_counter()
+    try:
+        return contact_choices(
+            problem,
+            1 + planner.contact_retries,
+            candidates=candidates,
+            exclude=search.tried,
+            margin=planner.margin,
+        )
+    except InfeasibleError:
+        if search.failure is None:
+            raise
+        return None
+    finally:
+        search.searching += time.perf_counter() - searched
+
+
+def choice_attempt(
+    planner: OptimalControl,
+    problem: PoolStrike,
+    choice: ContactChoice,
+    warm_start: Trajectory | None,
+    search: StrikeSearch,
+) -> Trajectory | None:
+    """Plan from a searched choice; None when it failed or its window was past the limits.
+
+    The warm start seeds the first choice only, and only when it lends to its branch
+    (:func:`planners.ocp.formulation.lends_to`).
+    """
+    search.tried.append(choice.q)
+    search.found.append(choice)
+    window = planner._window(problem, choice, search.failure)
+    search.windows.append(window)
+    if past_the_limits(window):
+        return None
+    lend = len(search.tried) == 1 and lends_to(problem, warm_start, choice)
+    outcome = planner._attempt(
+        problem,
+        choice,
+        warm_start if lend else None,
+        len(search.tried),
+        search.started,
+        search.searching,
+        False,
+    )
+    if isinstance(outcome, Trajectory):
+        return outcome
+    search.failure = outcome
+    if search.windows[-1] is None:
+        search.windows[-1] = planner._window(problem, choice, outcome)
+    return None

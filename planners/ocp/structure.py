@@ -1,53 +1,22 @@
-"""The shape of a transcribed NLP: its structure key, decision-vector layout and parameters."""
+"""The shape of a transcribed NLP: its structure key and its decision-vector layout."""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from optraj.errors import UnknownNameError
-from optraj.validation import as_vector, ndim_of
+if TYPE_CHECKING:
+    from optraj.planners.ocp.task_rows.base import TaskRows
 
 FloatArray = NDArray[np.float64]
 
 
 #: Ways of writing the torque rows (module docstring).
 TORQUE_ROWS = ("rnea", "linear")
-
-#: NLP parameters, name and size, in order.
-PARAMETERS: tuple[tuple[str, int], ...] = (
-    ("time_scale", 1),  # [s] divides every cost term so that the objective is O(1)
-    ("entry", 3),  # strike line entry point [m]
-    ("direction", 3),  # strike direction d [-]
-    ("e1", 3),  # unit vectors perpendicular to d [-]
-    ("e2", 3),
-    ("speed", 1),  # strike speed [m/s]
-    ("contact_velocity", 3),  # required velocity of the contact point [m/s]
-    ("offset", 1),  # contact point offset along tool z [m]
-)
-
-
-def parameter_vector(**values: Any) -> FloatArray:
-    """The parameter vector of :data:`PARAMETERS`; missing entries are zero (time_scale 1).
-
-    Raises:
-        UnknownNameError: A name that is not one of :data:`PARAMETERS`.
-        InvalidInputError: A value that is not a finite number or vector of its size.
-    """
-    known = [name for name, _ in PARAMETERS]
-    unknown = sorted(set(values) - set(known))
-    if unknown:
-        raise UnknownNameError("NLP parameter", unknown[0], known)
-    parts = []
-    for name, size in PARAMETERS:
-        default = 1.0 if name == "time_scale" else 0.0
-        value = values.get(name, np.full(size, default))
-        parts.append(as_vector(np.reshape(value, -1) if ndim_of(value) == 0 else value, name, size))
-    return np.concatenate(parts)
 
 
 def jerk_step(h: Any, q: Any, v: Any, a: Any, u: Any) -> tuple[Any, Any, Any]:
@@ -75,13 +44,13 @@ class Structure:
         tool_frame: Frame whose pose the task rows constrain.
         intervals: Intervals per phase.
         free: Per phase, whether its duration is a decision (else fixed by bounds).
-        strike_phase: Index of the strike phase, or -1.
-        contact_node: Node of the contact velocity rows, or -1.
+        tasks: The task rows (:mod:`planners.ocp.task_rows`), in the order they are added;
+            they compare by their phase, not by their constraint's numbers.
         position_rows: Whether positions are bounded between nodes (Bernstein rows) or at
             the nodes only.
         torque_nodes: Nodes with torque rows.
         torque_rows: ``"rnea"`` (the symbolic inverse dynamics) or ``"linear"`` (its
-            expansion, coefficients as parameters after :data:`PARAMETERS`).
+            expansion, its coefficients the NLP parameter ``torque``).
         weights: Objective weights as ``(term, weight)`` pairs (time, jerk, effort, posture).
         margin: Fraction of the velocity, acceleration and jerk limits kept free [-].
         torque_margin: Fraction of the torque limits kept free at torque nodes [-] (RNEA
@@ -96,8 +65,7 @@ class Structure:
     intervals: tuple[int, ...]
     free: tuple[bool, ...]
     free_grid: bool = True
-    strike_phase: int = -1
-    contact_node: int = -1
+    tasks: tuple[TaskRows, ...] = ()
     position_rows: bool = True
     torque_nodes: tuple[int, ...] = ()
     torque_rows: str = "rnea"

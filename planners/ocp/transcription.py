@@ -33,20 +33,18 @@ compiled NLP serves every expansion point. The planner expands again about each 
 until the dense torques hold; at a fixed point the rows equal the RNEA rows to first order,
 so the solution satisfies the same optimality conditions.
 
-Task rows:
+Task rows (:mod:`planners.ocp.task_rows`), after the rows above and before the torque rows,
+each kind built from a constraint of the problem:
 
-* a strike phase (pool cue): at every node the tool origin is on the schedule
-  :math:`p_{entry} + v\,t\,d` and the tool z axis has no component along two unit vectors
-  :math:`e_1, e_2` perpendicular to :math:`d` (with :math:`d \cdot z \ge 0`), so the roll
-  stays free; the tool velocity equals :math:`v d` at the window's entry and exit only
-  (the positions on the schedule fix the speed in between; equalities at every node would
-  over-determine a 7-DOF arm whose last joint only rolls the cue);
-* a contact node (paddle): the velocity of a point ``offset`` along the tool z axis equals a
-  given vector.
+* a strike line (pool cue, :class:`planners.ocp.task_rows.strike_line.StrikeLineRows`): at
+  every node of its window the tool origin on the schedule and the tool z axis on the line;
+  the tool velocity at the window's entry and exit;
+* a tool contact (paddle, :class:`planners.ocp.task_rows.tool_contact.ToolContactRows`): the
+  velocity of a point ``offset`` along the tool z axis at the contact node.
 
 Fixed boundary states, via points and the contact configuration are variable bounds, so one
-compiled NLP serves every problem with the same :class:`Structure`; the strike line and the
-contact velocity are NLP parameters (:data:`PARAMETERS`).
+compiled NLP serves every problem with the same :class:`Structure`; the task rows' numbers
+are named NLP parameters (:class:`planners.ocp.parameters.ParameterLayout`).
 """
 
 from __future__ import annotations
@@ -65,39 +63,36 @@ from optraj.planners.ocp.budget import (
     stop_callback,
     time_left,
 )
+from optraj.planners.ocp.parameters import ParameterLayout
 from optraj.planners.ocp.rows import (
     Rows,
-    contact_rows,
-    strike_node_rows,
-    strike_rows,
     structure_limits,
     torque_linearization,
     torque_parameter_count,
 )
 from optraj.planners.ocp.structure import (
-    PARAMETERS,
     TORQUE_ROWS,
     Layout,
     Structure,
     jerk_step,
-    parameter_vector,
 )
+from optraj.planners.ocp.task_rows import TaskContext, strike_node_rows
 from optraj.robots import SymbolicModel
 from optraj.validation import as_choice
 
 __all__ = [
-    "PARAMETERS",
     "TORQUE_ROWS",
     "CompiledNLP",
     "FrozenOptions",
     "Layout",
+    "ParameterLayout",
     "Rows",
     "Structure",
     "compile_nlp",
     "deadline",
     "freeze_options",
     "jerk_step",
-    "parameter_vector",
+    "parameter_layout",
     "stop_callback",
     "strike_node_rows",
     "structure_limits",
@@ -106,11 +101,9 @@ __all__ = [
     "torque_linearization",
     "torque_parameter_count",
 ]
-#: Most IPOPT iterations of a warm-started solve. Warm solves of the strike benchmark's shots
-#: whose ball moved 2 cm take 3 to 34 iterations (median 9); the few that take longer start
-#: from an active set far from the new problem's, and took 300 to 630 iterations at the
-#: warm start's small barrier parameter where a solve from the same primal point with a fresh
-#: barrier takes about 60.
+#: Most IPOPT iterations of a warm-started solve. A warm solve that needs more starts from an
+#: active set far from the new problem's, where the warm start's small barrier parameter
+#: makes slow progress: a solve from the same primal point with a fresh barrier is quicker.
 WARM_ITERATIONS = 50
 
 FloatArray = NDArray[np.float64]
@@ -124,7 +117,7 @@ class CompiledNLP:
         structure: What it was built for.
         layout: Decision vector layout.
         w: Decision variables (SX).
-        p: Parameters (SX), see :data:`PARAMETERS`.
+        p: Parameters (SX), laid out by ``parameters``.
         f: Objective (SX).
         g: Constraints (SX).
         lbg: Lower constraint bounds, shape (m,).
@@ -133,6 +126,7 @@ class CompiledNLP:
         scale: Physical scales ``(mid, half, velocity, acceleration, jerk)``, each (n,).
         solver: ``nlpsol`` for cold starts.
         constraint_values: ``(w, p) -> g``, to measure a solution's violations.
+        parameters: The named parameters in ``p`` (:func:`parameter_layout`).
         torque_expansion: ``z (3n, m) -> (t (n, m), J (n, 3n m))``: the torques over the
             effort limits at m scaled node states and their Jacobians, for linear torque
             rows (None without them).
@@ -158,6 +152,7 @@ class CompiledNLP:
     scale: tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
     solver: ca.Function
     constraint_values: ca.Function
+    parameters: ParameterLayout
     torque_expansion: ca.Function | None = None
     warm_solver: ca.Function | None = None
     row_joint: NDArray[np.intp] = field(default_factory=lambda: np.zeros(0, np.intp))
@@ -195,8 +190,6 @@ class CompiledNLP:
                 # The barrier starts where a cold solve's stopping test leaves it (IPOPT
                 # stops once the barrier problem is solved to barrier_tol_factor = 10 times
                 # the barrier parameter): a tenth of the tolerance, 1e-7 at IPOPT's own 1e-6.
-                # From a solution to 1e-4, a start at 1e-7 took 380 iterations over 20 warm
-                # strike re-plans against 216 from solutions to 1e-6.
                 options["ipopt.mu_init"] = 0.1 * float(options.get("ipopt.tol", 1e-6))
                 # A warm solve that has not converged by then is dropped for a cold one from
                 # the same primal point (OptimalControl._solve).
@@ -256,7 +249,11 @@ class _Nodes:
     def physical(self, z: ca.SX) -> tuple[ca.SX, ca.SX, ca.SX]:
         """(q, qd, qdd) of a scaled node state ``z = (zq, zv, za)``."""
         n = self.layout.n
-        return self.mid + self.half * z[:n], self.vel * z[n : 2 * n], self.acc * z[2 * n :]
+        # SX, whatever NumPy's stubs say: NumPy defers to CasADi's operators.
+        q: Any = self.mid + self.half * z[:n]
+        qd: Any = self.vel * z[n : 2 * n]
+        qdd: Any = self.acc * z[2 * n :]
+        return q, qd, qdd
 
     def node_state(self, node: int) -> ca.SX:
         """The scaled state ``(zq, zv, za)`` of ``node``, shape (3 n,)."""
@@ -352,21 +349,20 @@ def _torque_terms(
     rows: Rows,
     structure: Structure,
     nodes: _Nodes,
-    p: ca.SX,
-    base: int,
+    coefficients: ca.SX,
     rnea: ca.Function,
     effort: FloatArray,
 ) -> ca.Function | None:
     """The torque rows at the structure's torque nodes; the mapped expansion of linear ones.
 
-    The linear rows' coefficients are the parameters of ``p`` from ``base`` on.
+    The linear rows' coefficients are ``coefficients``, the parameter ``torque``.
     """
     n = nodes.layout.n
     expansion = None
     if structure.torque_rows == "linear":
         size = n + 3 * n * n
         for i, node in enumerate(structure.torque_nodes):
-            block = p[base + i * size : base + (i + 1) * size]
+            block = coefficients[i * size : (i + 1) * size]
             z = nodes.node_state(node)
             row = block[:n] + ca.reshape(block[n:], n, 3 * n) @ z
             rows.add("torque", row, -1.0, 1.0, joints=n, at=node)
@@ -381,6 +377,20 @@ def _torque_terms(
             limit = 1.0 - structure.torque_margin
             rows.add("torque", tau, -limit, limit, joints=n, at=node)
     return expansion
+
+
+def parameter_layout(structure: Structure) -> ParameterLayout:
+    """The named parameters of the NLP of ``structure``, in order.
+
+    ``time_scale`` [s] (the objective's divisor, which keeps it about 1), the parameters of
+    each of its task rows, and ``torque`` (the linear torque rows' coefficients, none for
+    RNEA rows: :func:`torque_parameter_count`).
+    """
+    entries = [("time_scale", 1)]
+    for task in structure.tasks:
+        entries.extend(task.parameters)
+    entries.append(("torque", torque_parameter_count(structure)))
+    return ParameterLayout(entries)
 
 
 def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
@@ -399,13 +409,9 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
     mid, half = 0.5 * (lower + upper), 0.5 * (upper - lower)
     as_choice(structure.torque_rows, "torque rows", TORQUE_ROWS)
     w = ca.SX.sym("w", layout.size)
-    base = sum(size for _, size in PARAMETERS)
-    p = ca.SX.sym("p", base + torque_parameter_count(structure))
-    params: dict[str, ca.SX] = {}
-    offset = 0
-    for name, size in PARAMETERS:
-        params[name] = p[offset : offset + size]
-        offset += size
+    parameters = parameter_layout(structure)
+    p = ca.SX.sym("p", parameters.size)
+    params = parameters.symbols(p)
 
     h = [w[k] for k in range(layout.K)]
     nodes = _Nodes(w, layout, mid, half, vel, acc)
@@ -414,11 +420,10 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
     cost = _grid_terms(rows, structure, layout, h, time_scale)
     rnea = symbolic.rnea()
     cost = _interval_terms(rows, structure, nodes, h, (jerk, effort, time_scale), rnea, cost)
-    if structure.strike_phase >= 0:
-        strike_rows(rows, structure, layout, symbolic, params, h, nodes.state)
-    if structure.contact_node >= 0:
-        contact_rows(rows, structure, symbolic, params, nodes.state)
-    expansion = _torque_terms(rows, structure, nodes, p, base, rnea, effort)
+    task = TaskContext(symbolic, structure.tool_frame, layout, h, params, nodes.state)
+    for task_rows in structure.tasks:
+        task_rows.add(rows, task)
+    expansion = _torque_terms(rows, structure, nodes, params["torque"], rnea, effort)
 
     g = ca.vertcat(*rows.rows)
     compiled = CompiledNLP(
@@ -434,6 +439,7 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
         scale=(mid, half, vel, acc, jerk),
         solver=None,  # type: ignore[arg-type]
         constraint_values=ca.Function("constraint_values", [w, p], [g]),
+        parameters=parameters,
         torque_expansion=expansion,
         row_joint=np.concatenate(rows.joint),
         row_part=np.concatenate(rows.part),

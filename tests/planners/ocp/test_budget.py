@@ -7,7 +7,6 @@ from ocp_support import exact_motion, youbot_nlp
 
 from optraj.planners.ocp.transcription import (
     deadline,
-    parameter_vector,
     time_left,
 )
 
@@ -16,7 +15,7 @@ def test_a_solve_past_its_deadline_is_stopped_by_the_iteration_callback():
     _, compiled = youbot_nlp(options=(("ipopt.max_iter", 3), ("ipopt.print_level", 0)))
     rng = np.random.default_rng(3)
     w = exact_motion(compiled, rng)
-    args = {"x0": w, "p": parameter_vector(), "lbg": compiled.lbg, "ubg": compiled.ubg}
+    args = {"x0": w, "p": compiled.parameters.vector(), "lbg": compiled.lbg, "ubg": compiled.ubg}
     assert time_left() == np.inf
     with deadline(-1.0):  # already past
         assert time_left() < 0.0

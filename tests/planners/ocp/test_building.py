@@ -8,6 +8,7 @@ import casadi as ca
 import numpy as np
 import pytest
 from conftest import get_robot
+from ocp_support import paddle_move
 
 from optraj import problems
 from optraj.planners import check
@@ -16,16 +17,9 @@ from optraj.planners.ocp.optimal_control import (
 )
 
 
-def _paddle_move() -> problems.PointToPoint:
-    robot = get_robot("paddle4")
-    lower, upper = robot.limits.lower, robot.limits.upper
-    middle = 0.5 * (lower + upper)
-    return problems.PointToPoint(robot, middle, middle + 0.2 * (upper - lower))
-
-
 @pytest.mark.skipif(not ca.has_nlpsol("sqpmethod"), reason="CasADi without sqpmethod")
 def test_sqpmethod_plans_a_small_move_with_nested_solver_options():
-    problem = _paddle_move()
+    problem = paddle_move()
     options = {"qpsol_options": {"printLevel": "none", "enableRegularisation": True}}
     traj = OptimalControl("time", solver="sqpmethod", solver_options=options).plan(problem)
     report = check(traj, problem)

@@ -4,32 +4,19 @@ from __future__ import annotations
 
 import dataclasses
 
-import numpy as np
+from ocp_support import tight_choice
 
 from optraj import problems
 from optraj.errors import (
     SolverError,
 )
 from optraj.planners.ocp.failures import near_the_limit
-from optraj.planners.strike.contact import ContactChoice
-
-
-def _tight_choice(max_speed: float) -> ContactChoice:
-    """A Sawyer contact choice at 0.97 of right_j1's velocity limit."""
-    return ContactChoice(
-        q=np.zeros(7),
-        qd=np.zeros(7),
-        ratio=0.97,
-        max_speed=max_speed,
-        binding_joint="right_j1",
-        candidates=1,
-    )
 
 
 def test_the_tight_ratio_hint_comes_only_with_infeasibility_and_no_room():
     problem = problems.sawyer_pool_shot(1.0)
     failure = SolverError("ipopt", "Infeasible_Problem_Detected", iterations=7, detail="x")
-    tight = _tight_choice(1.03)
+    tight = tight_choice(1.03)
     tighter = dataclasses.replace(tight, ratio=0.95, max_speed=1.05, binding_joint="right_j3")
     hinted = near_the_limit(failure, problem, [tight, tighter])
     assert (hinted.solver, hinted.status, hinted.iterations) == ("ipopt", failure.status, 7)

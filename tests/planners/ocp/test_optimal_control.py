@@ -9,9 +9,10 @@ import time
 import numpy as np
 import pytest
 from conftest import get_robot
+from ocp_support import paddle_move, sawyer_shots
 
 import optraj.planners.ocp.formulation as formulation
-import optraj.planners.ocp.optimal_control as optimal_control
+import optraj.planners.ocp.strike_search as strike_search
 from optraj import problems, robots
 from optraj.errors import (
     CONTACT_CHOICE,
@@ -36,17 +37,6 @@ from optraj.planners.ocp.refinement import (
 from optraj.planners.strike.contact import BRANCH_SPREAD
 from optraj.planners.strike.window_check import QUANTITIES
 
-SAWYER_SHOT = {"x": (0.65, 0.85), "y": (-0.05, 0.3), "z": (-0.1, 0.0), "heading": (-20.0, 20.0)}
-
-
-def _shots(count: int, speed: float, seed: int = 7):
-    rng = np.random.default_rng(seed)
-    for _ in range(count):
-        ball = tuple(rng.uniform(*SAWYER_SHOT[axis]) for axis in "xyz")
-        yield problems.sawyer_pool_shot(
-            speed, ball, heading_deg=rng.uniform(*SAWYER_SHOT["heading"])
-        )
-
 
 def _jerk_integral(traj) -> float:
     """Integral of the squared jerk over the motion, from dense samples [rad^2/s^5]."""
@@ -61,7 +51,7 @@ def _jerk_integral(traj) -> float:
 def test_pool_strikes_at_1_m_s_pass_the_checker_or_say_why():
     planner = OptimalControl("time")
     solved = 0
-    for problem in _shots(20, speed=1.0):
+    for problem in sawyer_shots(20, speed=1.0):
         try:
             traj = planner.plan(problem)
         except InfeasibleError as exc:
@@ -81,7 +71,7 @@ def test_slow_pool_strikes_pass_the_checker(speed):
     # accelerations a minimum-time plan filled it with self-motion, and the cue left its
     # line between nodes however fine the strike grid (a SolverError after 8 rounds).
     planner = OptimalControl("time")
-    for problem in _shots(2, speed=speed, seed=5):
+    for problem in sawyer_shots(2, speed=speed, seed=5):
         traj = planner.plan(problem)
         report = check(traj, problem)
         assert report.ok, report.summary()
@@ -116,7 +106,7 @@ def test_a_strike_faster_than_any_contact_allows_is_named_within_a_second():
     planner = OptimalControl("time")
     with pytest.raises(InfeasibleError):  # warm-up: loads the LP plugin
         planner.plan(problems.sawyer_pool_shot(3.0))
-    for problem in _shots(3, speed=2.5, seed=11):
+    for problem in sawyer_shots(3, speed=2.5, seed=11):
         started = time.perf_counter()
         with pytest.raises(InfeasibleError, match=r"strike speed 2\.5 m/s needs") as info:
             planner.plan(problem)
@@ -422,7 +412,7 @@ def test_a_strike_whose_start_gravity_overloads_is_refused_before_any_search(mon
     def searched(*args, **kwargs):
         raise AssertionError("the contact search ran")
 
-    monkeypatch.setattr(optimal_control, "contact_choices", searched)
+    monkeypatch.setattr(strike_search, "contact_choices", searched)
     monkeypatch.setattr(formulation, "choose_contact", searched)
     problem = _overloaded_pool_shot()
     gravity = np.abs(problem.robot.gravity_torque(problem.q_start))
@@ -476,7 +466,7 @@ def test_a_start_holding_nearly_its_effort_limit_keeps_no_torque_margin_there(to
 
 def test_a_plan_past_its_time_budget_raises_a_solver_error_that_names_it():
     with pytest.raises(SolverError, match=r"time_budget of 1e-06 s") as info:
-        OptimalControl(time_budget=1e-6).plan(_paddle_move())
+        OptimalControl(time_budget=1e-6).plan(paddle_move())
     assert info.value.status == BUDGET_SPENT
 
 
@@ -607,7 +597,7 @@ def test_a_failed_solve_is_retried_from_the_next_contact_branch():
 
 
 def test_solver_failure_carries_status_and_most_violated_group():
-    problem = next(_shots(1, speed=1.0))
+    problem = next(sawyer_shots(1, speed=1.0))
     with pytest.raises(SolverError, match=r"Maximum_Iterations_Exceeded.*most violated") as info:
         OptimalControl("time", max_iterations=2).plan(problem)
     assert info.value.solver == "ipopt" and info.value.iterations == 2
@@ -625,13 +615,6 @@ def test_solvers_by_name():
         OptimalControl(solver="knitro")
     with pytest.raises(UnknownNameError, match="sqpmethod"):  # left out: see SOLVERS
         OptimalControl(solver="fatrop")
-
-
-def _paddle_move() -> problems.PointToPoint:
-    robot = get_robot("paddle4")
-    lower, upper = robot.limits.lower, robot.limits.upper
-    middle = 0.5 * (lower + upper)
-    return problems.PointToPoint(robot, middle, middle + 0.2 * (upper - lower))
 
 
 @pytest.mark.parametrize(
@@ -678,7 +661,7 @@ def test_bad_options_raise_typed_errors(kwargs, name):
 
 
 def test_bad_plan_inputs_are_named_before_any_solve():
-    move = _paddle_move()
+    move = paddle_move()
     sawyer = get_robot("sawyer")
     other = OptimalControl().plan(problems.PointToPoint(sawyer, sawyer.home, sawyer.home + 0.1))
     with pytest.raises(InvalidInputError, match=r"warm_start must be a planners\.Trajectory"):

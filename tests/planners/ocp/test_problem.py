@@ -3,27 +3,16 @@
 from __future__ import annotations
 
 import numpy as np
+from ocp_support import sawyer_shots
 
-from optraj import problems
 from optraj.planners import check
 from optraj.planners.ocp.optimal_control import (
     OptimalControl,
 )
 
-SAWYER_SHOT = {"x": (0.65, 0.85), "y": (-0.05, 0.3), "z": (-0.1, 0.0), "heading": (-20.0, 20.0)}
-
-
-def _shots(count: int, speed: float, seed: int = 7):
-    rng = np.random.default_rng(seed)
-    for _ in range(count):
-        ball = tuple(rng.uniform(*SAWYER_SHOT[axis]) for axis in "xyz")
-        yield problems.sawyer_pool_shot(
-            speed, ball, heading_deg=rng.uniform(*SAWYER_SHOT["heading"])
-        )
-
 
 def test_build_and_solve_apart():
-    problem = next(_shots(1, speed=1.0))
+    problem = next(sawyer_shots(1, speed=1.0))
     planner = OptimalControl("time")
     built = planner.build(problem)
     names = {name for name, _, _ in built.compiled.groups}

@@ -6,7 +6,6 @@ import numpy as np
 from ocp_support import exact_motion, nlp_rows, youbot_nlp
 
 from optraj.planners.ocp.transcription import (
-    parameter_vector,
     torque_linearization,
     torque_parameter_count,
 )
@@ -32,7 +31,8 @@ def test_linear_torque_rows_are_the_rnea_to_first_order():
     w[layout.x_start : layout.u_start] = rng.uniform(-0.8, 0.8, layout.u_start - layout.x_start)
     block = torque_linearization(compiled, w, margin)
     assert block.size == torque_parameter_count(compiled.structure) == len(nodes) * (5 + 3 * 25)
-    p = np.concatenate([parameter_vector(), block])
+    p = compiled.parameters.vector(torque=block)
+    np.testing.assert_array_equal(compiled.parameters.value(p, "torque"), block)
 
     def rows(x):
         g = np.asarray(compiled.constraint_values(x, p)).reshape(-1)

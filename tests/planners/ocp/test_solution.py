@@ -5,35 +5,16 @@ from __future__ import annotations
 import re
 
 import numpy as np
-from conftest import get_robot
+from ocp_support import paddle_move, sawyer_shots
 
-from optraj import problems
 from optraj.planners.ocp.optimal_control import (
     OptimalControl,
 )
 from optraj.planners.ocp.solution import diagnosis, integrable
 
-SAWYER_SHOT = {"x": (0.65, 0.85), "y": (-0.05, 0.3), "z": (-0.1, 0.0), "heading": (-20.0, 20.0)}
-
-
-def _paddle_move() -> problems.PointToPoint:
-    robot = get_robot("paddle4")
-    lower, upper = robot.limits.lower, robot.limits.upper
-    middle = 0.5 * (lower + upper)
-    return problems.PointToPoint(robot, middle, middle + 0.2 * (upper - lower))
-
-
-def _shots(count: int, speed: float, seed: int = 7):
-    rng = np.random.default_rng(seed)
-    for _ in range(count):
-        ball = tuple(rng.uniform(*SAWYER_SHOT[axis]) for axis in "xyz")
-        yield problems.sawyer_pool_shot(
-            speed, ball, heading_deg=rng.uniform(*SAWYER_SHOT["heading"])
-        )
-
 
 def test_a_failed_solve_names_its_most_violated_row_by_joint_and_place():
-    move = _paddle_move()
+    move = paddle_move()
     built = OptimalControl().build(move)
     layout = built.compiled.layout
     w = built.x0.copy()
@@ -48,7 +29,7 @@ def test_a_failed_solve_names_its_most_violated_row_by_joint_and_place():
 
 def test_a_sampled_guess_is_fitted_to_the_dynamics_rows():
     planner = OptimalControl("time")
-    built = planner.build(next(_shots(1, speed=1.0)))
+    built = planner.build(next(sawyer_shots(1, speed=1.0)))
     layout = built.compiled.layout
     kept = [int(node) for node in layout.first_node]
     rng = np.random.default_rng(5)

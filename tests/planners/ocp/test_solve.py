@@ -2,9 +2,8 @@
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
-from conftest import get_robot
+from ocp_support import paddle_move, sawyer_shots
 
 import optraj.planners.ocp.budget as budget
 import optraj.planners.ocp.solve as solve
@@ -19,17 +18,6 @@ from optraj.planners.ocp.optimal_control import (
 )
 from optraj.planners.ocp.transcription import WARM_ITERATIONS
 
-SAWYER_SHOT = {"x": (0.65, 0.85), "y": (-0.05, 0.3), "z": (-0.1, 0.0), "heading": (-20.0, 20.0)}
-
-
-def _shots(count: int, speed: float, seed: int = 7):
-    rng = np.random.default_rng(seed)
-    for _ in range(count):
-        ball = tuple(rng.uniform(*SAWYER_SHOT[axis]) for axis in "xyz")
-        yield problems.sawyer_pool_shot(
-            speed, ball, heading_deg=rng.uniform(*SAWYER_SHOT["heading"])
-        )
-
 
 def _moved_2_cm(ball, heading_deg):
     """A benchmark shot (1 m/s) and the same shot with its ball 2 cm further along y."""
@@ -37,13 +25,6 @@ def _moved_2_cm(ball, heading_deg):
         problems.sawyer_pool_shot(1.0, (ball[0], ball[1] + dy, ball[2]), heading_deg)
         for dy in (0.0, 0.02)
     )
-
-
-def _paddle_move() -> problems.PointToPoint:
-    robot = get_robot("paddle4")
-    lower, upper = robot.limits.lower, robot.limits.upper
-    middle = 0.5 * (lower + upper)
-    return problems.PointToPoint(robot, middle, middle + 0.2 * (upper - lower))
 
 
 def test_a_warm_solve_that_does_not_converge_is_redone_cold():
@@ -68,7 +49,7 @@ def test_a_budget_spent_inside_a_solve_stops_it_and_no_contact_retry_swallows_it
     checks = iter([1.0, 1.0])
     monkeypatch.setattr(solve, "time_left", lambda: next(checks, -1.0))
     monkeypatch.setattr(budget, "time_left", lambda: -1.0)
-    problem = next(_shots(1, speed=1.0))
+    problem = next(sawyer_shots(1, speed=1.0))
     with pytest.raises(SolverError, match="User_Requested_Stop") as info:
         OptimalControl(contact_retries=2).plan(problem)
     assert info.value.status == BUDGET_SPENT and info.value.iterations == 0
@@ -78,5 +59,5 @@ def test_a_solver_that_raises_gives_a_solver_error_with_its_reason():
     # CasADi's error_on_fail turns IPOPT's iteration cap into an exception.
     planner = OptimalControl("time", solver_options={"error_on_fail": True, "ipopt.max_iter": 2})
     with pytest.raises(SolverError, match=r"Maximum_Iterations_Exceeded.*nlpsol process") as info:
-        planner.plan(_paddle_move())
+        planner.plan(paddle_move())
     assert info.value.iterations == 2 and "Function::call" not in str(info.value)

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
+from ocp_support import tight_choice
 
 from optraj import problems
 from optraj.errors import (
@@ -13,20 +13,7 @@ from optraj.errors import (
 from optraj.planners.ocp.optimal_control import (
     OptimalControl,
 )
-from optraj.planners.strike.contact import ContactChoice
 from optraj.planners.strike.window_check import WindowRatio
-
-
-def _tight_choice(max_speed: float) -> ContactChoice:
-    """A Sawyer contact choice at 0.97 of right_j1's velocity limit."""
-    return ContactChoice(
-        q=np.zeros(7),
-        qd=np.zeros(7),
-        ratio=0.97,
-        max_speed=max_speed,
-        binding_joint="right_j1",
-        candidates=1,
-    )
 
 
 def _window(ratio: float, status: str = "Solve_Succeeded") -> WindowRatio:
@@ -51,7 +38,7 @@ def test_a_strike_is_refused_only_when_every_window_tried_needs_more_than_the_li
     problem = problems.sawyer_pool_shot(1.5)
     planner = OptimalControl("time")
     failure = SolverError("ipopt", "Infeasible_Problem_Detected", iterations=7, detail="x")
-    tight = _tight_choice(1.55)
+    tight = tight_choice(1.55)
     refused = planner._strike_error(
         failure, problem, [tight, tight], [_window(1.08), _window(1.03)]
     )
