@@ -105,6 +105,9 @@ class StrikeLine:
         position_tolerance: Allowed distance from the schedule [m].
         speed_tolerance: Allowed relative speed error [-].
         angle_tolerance: Allowed axis angle to the direction [rad].
+        run_up: Distance along the line from the window's start to the contact point [m];
+            None for ``speed * contact_delay``. A problem that knows it gives it, so that
+            :attr:`entry_point` is its own entry point to the last bit.
     """
 
     phase: str
@@ -117,6 +120,15 @@ class StrikeLine:
     position_tolerance: float = STRIKE_POSITION_TOLERANCE
     speed_tolerance: float = STRIKE_SPEED_TOLERANCE
     angle_tolerance: float = STRIKE_ANGLE_TOLERANCE
+    run_up: float | None = None
+
+    @property
+    def entry_point(self) -> FloatArray:
+        """Where the tool is when the window opens [m], shape (3,)."""
+        run_up = (
+            float(self.speed) * float(self.contact_delay) if self.run_up is None else self.run_up
+        )
+        return np.asarray(self.point) - float(run_up) * np.asarray(self.direction)
 
 
 @dataclass(frozen=True, eq=False)

@@ -184,6 +184,7 @@ class PoolStrike:
                 position_tolerance=self.position_tolerance,
                 speed_tolerance=self.speed_tolerance,
                 angle_tolerance=self.angle_tolerance,
+                run_up=float(self.run_up),
             ),
             BoundaryState("end", None, np.zeros(n)),
         )

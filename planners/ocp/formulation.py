@@ -283,7 +283,7 @@ def pool_spec(
         durations=(None, problem.window, None),
         guess=guess,
         fixed=boundary_states(problem, phases=len(phases)),
-        tasks=(StrikeLineRows.of(strike, phases, problem.entry_point),),
+        tasks=(StrikeLineRows.of(strike, phases),),
         contact=choice,
     )
 

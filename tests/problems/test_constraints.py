@@ -21,3 +21,11 @@ def test_constraints_are_frozen():
     contact = ToolContact(position=np.zeros(3), time=1.0)
     with pytest.raises(dataclasses.FrozenInstanceError):
         contact.time = 2.0  # type: ignore[misc]
+
+
+def test_strike_entry_point_is_run_up_behind_the_contact():
+    direction = np.array([0.6, 0.8, 0.0])
+    timed = StrikeLine("strike", np.ones(3), direction, 1.5, 0.1, 0.15)
+    np.testing.assert_allclose(timed.entry_point, np.ones(3) - 0.15 * direction, atol=1e-15)
+    given = dataclasses.replace(timed, run_up=0.2)
+    np.testing.assert_allclose(given.entry_point, np.ones(3) - 0.2 * direction, atol=1e-15)

@@ -29,6 +29,7 @@ def test_geometry_and_timing_of_the_strike():
     line = problem.constraints()[1]
     assert isinstance(line, StrikeLine) and line.phase == "strike"
     assert line.position_tolerance == 1e-5 and line.speed_tolerance == 1e-3
+    np.testing.assert_array_equal(line.entry_point, problem.entry_point)  # to the last bit
 
 
 @pytest.mark.parametrize(

@@ -13,7 +13,7 @@ cue). The line's numbers are the NLP parameters ``entry``, ``direction``, ``e1``
 
 Example::
 
-    rows = StrikeLineRows.of(line, ("approach", "strike", "stop"), problem.entry_point)
+    rows = StrikeLineRows.of(line, ("approach", "strike", "stop"))
     rows.phase  # 1: the rows are at the nodes of the strike phase
 """
 
@@ -50,19 +50,15 @@ class StrikeLineRows(TaskRows):
     Attributes:
         phase: Index of the window phase (the NLP's shape: rows compare by it alone).
         line: The strike line, as the checker reads it.
-        entry: Where the tip is when the window opens [m], shape (3,): the problem's own
-            entry point, which the line's contact point, delay and speed give only to
-            rounding.
     """
 
     phase: int
     line: StrikeLine = field(compare=False, repr=False)
-    entry: FloatArray = field(compare=False, repr=False)
 
     parameters = (("entry", 3), ("direction", 3), ("e1", 3), ("e2", 3), ("speed", 1))
 
     @classmethod
-    def of(cls, line: StrikeLine, phases: Sequence[str], entry: FloatArray) -> StrikeLineRows:
+    def of(cls, line: StrikeLine, phases: Sequence[str]) -> StrikeLineRows:
         """The rows of ``line`` in the phase of that name among ``phases``.
 
         Raises:
@@ -73,14 +69,14 @@ class StrikeLineRows(TaskRows):
                 f"the strike line is in phase {line.phase!r}; the phases are {list(phases)}",
                 name="phase",
             )
-        return cls(list(phases).index(line.phase), line, entry)
+        return cls(list(phases).index(line.phase), line)
 
     def values(self) -> dict[str, FloatArray]:
         """``entry``, ``direction``, the unit vectors ``e1``, ``e2`` across it and ``speed``."""
         direction = np.asarray(self.line.direction)
         e1, e2 = normal_pair(direction)
         return {
-            "entry": self.entry,
+            "entry": self.line.entry_point,
             "direction": direction,
             "e1": e1,
             "e2": e2,
@@ -127,7 +123,7 @@ class StrikeLineRows(TaskRows):
         poses = robot.tool_pose(s.q)
         direction = np.asarray(line.direction)
         speed = float(line.speed)
-        schedule = self.entry + speed * (times - phase.t_start)[:, None] * direction
+        schedule = self.line.entry_point + speed * (times - phase.t_start)[:, None] * direction
         gap = np.max(np.linalg.norm(poses[:, :3, 3] - schedule, axis=1))
         axis = np.clip(poses[:, :3, 2] @ direction, -1.0, 1.0)
         angle = np.max(np.arccos(axis))

@@ -19,7 +19,7 @@ PHASES = ("approach", "strike", "stop")
 
 def _rows(shot: problems.PoolStrike) -> StrikeLineRows:
     (line,) = [c for c in shot.constraints() if isinstance(c, StrikeLine)]
-    return StrikeLineRows.of(line, PHASES, shot.entry_point)
+    return StrikeLineRows.of(line, PHASES)
 
 
 def test_the_strike_phase_is_found_by_the_line_s_phase_name():
@@ -27,7 +27,7 @@ def test_the_strike_phase_is_found_by_the_line_s_phase_name():
     assert rows.phase == 1
     assert list(rows.nodes(np.array([0, 10, 15, 25]))) == list(range(10, 16))
     with pytest.raises(InvalidInputError, match="'strike'"):
-        StrikeLineRows.of(rows.line, ("approach", "stop"), rows.entry)
+        StrikeLineRows.of(rows.line, ("approach", "stop"))
 
 
 def test_rows_of_lines_in_the_same_phase_share_one_nlp_shape():
