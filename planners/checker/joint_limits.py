@@ -217,6 +217,3 @@ def _jump_finding(
         unit=limits.unit(UNIT_KEY[quantity], j),
         detail=detail,
     )
-
-
-# ---------------------------------------------------------------------------- context

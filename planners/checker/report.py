@@ -30,7 +30,7 @@ __all__ = ["Checkable", "Finding", "Report", "TrajectoryInfo", "build_finding"]
 
 
 class Checkable(Protocol):
-    """What :func:`check` accepts besides a robot: any problem with these three members."""
+    """What :func:`planners.checker.check` accepts besides a robot: a problem with these."""
 
     @property
     def robot(self) -> Robot:

@@ -56,7 +56,7 @@ def late_ramp(jerk: float, tau: float, step: float = 0.0) -> Trajectory:
 
 def test_round_off_at_a_late_breakpoint_is_not_a_jump(paddle):
     # At t = 574 s a breakpoint is known to 1e-13 s, over which a 1e6 m/s^3 jerk changes the
-    # acceleration by 4.5e-8 m/s^2: that is no jump (it was one, failing jerk with inf).
+    # acceleration by 4.5e-8 m/s^2: that is no jump.
     limits = limits_of(
         paddle, acceleration=np.array([0.4, 6.0, 8.0, 30.0]), jerk=np.array([2e6, 120, 160, 600])
     )
@@ -73,9 +73,8 @@ def test_round_off_at_a_late_breakpoint_is_not_a_jump(paddle):
 @pytest.mark.parametrize("miss", [0.5, 1.0, 1.0 + 1e-7, 1.001, 1.1, 2.0])
 def test_end_state_finding_and_boundary_jump_follow_one_rule(paddle, miss):
     # The end acceleration misses its prescription by ``miss`` tolerances: the end state
-    # passes exactly when there is no jump (the jump rule once failed jerk with inf at an
-    # end state that passed, 1 + 1e-7 tolerances off). Round-off, 1e-9 of the 8 m/s^2
-    # limit, is allowed on top of the tolerance.
+    # passes exactly when there is no jump. Round-off, 1e-9 of the 8 m/s^2 limit, is allowed
+    # on top of the tolerance.
     tolerance = 1e-6
     trajectory = quintic(Q0, Q0 + DELTA, T)
     qdd1 = np.array([0.0, 0.0, miss * tolerance, 0.0])

@@ -46,7 +46,7 @@ def test_bad_input_raises_typed_errors(paddle, sawyer):
     ],
 )
 def test_a_bad_rate_raises_a_typed_error(paddle, rate, match):
-    # rate=True sampled at 1 Hz; rate=1e9 allocated gigabytes.
+    # rate=True is no number; rate=1e9 would ask for gigabytes of samples.
     with pytest.raises(InvalidInputError, match=match):
         check(quintic(Q0, Q0 + DELTA, T), paddle, rate=rate)
 

@@ -10,6 +10,7 @@ from checker_support import DELTA, Q0, T, quintic
 
 from optraj.errors import InvalidInputError, UnknownNameError
 from optraj.planners.checker import Finding, check
+from optraj.planners.checker.report import build_finding
 
 
 def test_report_api(paddle):
@@ -42,3 +43,20 @@ def test_a_malformed_finding_raises_a_typed_error():
         Finding("x", "task", "1", 1.0, 0.0, 0.0, None, None, "m", "", True)  # type: ignore[arg-type]
     with pytest.raises(InvalidInputError, match="ok must be True or False"):
         Finding("x", "task", 1.0, 1.0, 0.0, 0.0, None, None, "m", "", "no")  # type: ignore[arg-type]
+
+
+def test_a_finding_that_is_not_a_number_fails_as_unbounded():
+    finding = build_finding(
+        "x", "limit", math.nan, 2.0, time=None, joint="J1", unit="m", detail="computed"
+    )
+    assert (finding.value, finding.margin, finding.ratio, finding.ok) == (
+        math.inf,
+        -math.inf,
+        math.inf,
+        False,
+    )
+    assert finding.detail == "computed (the value is not a number)"
+    on_a_zero_limit = build_finding(
+        "y", "task", 0.0, 0.0, time=1.0, joint=None, unit="m", detail=""
+    )
+    assert on_a_zero_limit.ratio == 0.0 and on_a_zero_limit.ok

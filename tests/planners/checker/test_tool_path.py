@@ -92,8 +92,7 @@ def test_tool_path_orientation_follows_slerp_by_position(sawyer):
 
 
 def test_a_tool_speed_cap_is_verified_over_the_trajectory_and_a_tool_path():
-    # The checker could not verify the cap that Toppra(tool_speed=...) and CartesianLine(speed=)
-    # promise.
+    # The cap that Toppra(tool_speed=...) and CartesianLine(speed=) promise is verified.
     from optraj.planners import CartesianStraightLine, Toppra
 
     robot = get_robot("sawyer")

@@ -37,9 +37,8 @@ def test_via_point_passed_between_samples_and_missed(paddle):
 
 def test_a_via_point_passed_away_from_the_closest_sample_is_found(paddle):
     # J2 rests at every breakpoint (0, 0.4, 0.35, 0.6, 0.55 rad), the only samples at 0.25 Hz,
-    # and passes its via point 0.2 rad mid-way through the first segment, fast. The closest
-    # sample (0.35 rad, 0.15 away) was refined with a slope bound taken from the samples,
-    # where J2 is still, so the pass went unseen and the via point failed.
+    # and passes its via point 0.2 rad mid-way through the first segment, fast: the samples,
+    # where J2 is still, say nothing of how fast the distance changes between them.
     def at(j2: float) -> np.ndarray:
         q = Q0.copy()
         q[1] = j2
