@@ -5,6 +5,7 @@ from __future__ import annotations
 import ast
 import subprocess
 import sys
+import tomllib
 from pathlib import Path
 
 import pytest
@@ -89,6 +90,20 @@ def test_packages_declare_all_and_are_typed(package):
         for node in init.body
     )
     assert (ROOT / package / "py.typed").exists()
+
+
+def test_every_package_folder_is_installed():
+    # pyproject lists the packages one by one: a sub-package missing there is left out of the
+    # wheel, though an editable install still finds it.
+    listed = set(
+        tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"]
+    )
+    found = {"optraj"} | {
+        ".".join(("optraj", *init.parent.relative_to(ROOT).parts))
+        for folder in ORDER
+        for init in (ROOT / folder).rglob("__init__.py")
+    }
+    assert listed == found
 
 
 def test_test_file_per_module():
