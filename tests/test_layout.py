@@ -183,7 +183,6 @@ REMAINING: dict[str, list[str]] = {
         "function evaluate of 111 code lines > 80",
     ],
     "planners/ocp/rounds.py": ["function solve_rounds of 107 code lines > 80"],
-    "planners/profiles/lspb.py": ["module of 646 lines > 600"],
     "planners/profiles/via_points.py": [
         "module of 867 lines > 600",
         "function _lspb_issues of 92 code lines > 80",
