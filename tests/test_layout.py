@@ -183,10 +183,6 @@ REMAINING: dict[str, list[str]] = {
         "function evaluate of 111 code lines > 80",
     ],
     "planners/ocp/rounds.py": ["function solve_rounds of 107 code lines > 80"],
-    "planners/profiles/via_points.py": [
-        "module of 867 lines > 600",
-        "function _lspb_issues of 92 code lines > 80",
-    ],
     "planners/strike/contact.py": ["module of 1083 lines > 600"],
     "planners/time_optimal/ruckig_planner.py": [
         "module of 1276 lines > 600",
