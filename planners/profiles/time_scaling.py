@@ -22,6 +22,7 @@ from optraj.planners.base import (
     stamp,
 )
 from optraj.planners.profiles.contact_velocity import paddle_contact_velocity
+from optraj.planners.profiles.lspb import LSPB
 from optraj.planners.trajectory import Phase, Trajectory
 from optraj.problems import PaddleStrike, PointToPoint
 from optraj.robots import JointLimits
@@ -468,7 +469,5 @@ def profile_by_name(name: str) -> JointProfile:
     if name == "quintic":
         return Quintic()
     if name == "lspb":
-        from optraj.planners.profiles.lspb import LSPB
-
         return LSPB()
     raise UnknownNameError("profile", name, ["cubic", "quintic", "lspb"])
