@@ -487,6 +487,7 @@ def pool_scene(robot: Robot, ball: ArrayLike, **options: object) -> StrikeScene:
         **options: Further :class:`StrikeScene` fields (``kinematic``, ``mass_scale``,
             ``payload``, ``step``, ``fine_step``).
     """
+    # **options are StrikeScene fields of several types, checked there.
     return StrikeScene(robot, "pool", ball, POOL_BALL_RADIUS, POOL_BALL_MASS, **options)  # type: ignore[arg-type]
 
 

@@ -146,7 +146,7 @@ class PickAndPlace:
                         axis=np.asarray(self.approach),
                         velocity=np.zeros(3),
                         phase=f"{phase}_{k}",
-                        at=at,  # type: ignore[arg-type]
+                        at=at,  # type: ignore[arg-type]  # "start"/"end" widened to str
                         label=f"{phase} {k} ({at})",
                         position_tolerance=self.position_tolerance,
                         angle_tolerance=self.angle_tolerance,

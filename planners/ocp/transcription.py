@@ -437,7 +437,7 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
         ubg=np.concatenate(rows.upper),
         groups=tuple(rows.groups),
         scale=(mid, half, vel, acc, jerk),
-        solver=None,  # type: ignore[arg-type]
+        solver=None,  # type: ignore[arg-type]  # set below: nlpsol reads the compiled NLP
         constraint_values=ca.Function("constraint_values", [w, p], [g]),
         parameters=parameters,
         torque_expansion=expansion,

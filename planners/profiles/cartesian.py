@@ -10,6 +10,9 @@
   time-scaled by a cubic, quintic or LSPB profile.
 * :class:`LinearTrajectory`: the pool-cue line of the seed documents, reproduced exactly:
   constant velocity from the start, holding still after the end.
+
+:func:`point_joint_velocity` and :func:`paddle_contact_velocity` live in
+:mod:`optraj.planners.profiles.contact_velocity` and are re-exported here.
 """
 
 from __future__ import annotations
@@ -34,11 +37,14 @@ from optraj.errors import (
 )
 from optraj.planners.base import stamp
 from optraj.planners.checker import Report, check
+from optraj.planners.profiles.contact_velocity import (
+    paddle_contact_velocity,
+    point_joint_velocity,
+)
 from optraj.planners.trajectory import Phase, Trajectory
-from optraj.problems import CartesianLine, PaddleStrike
+from optraj.problems import CartesianLine
 from optraj.problems.common import MAX_TOOL_SPEED
 from optraj.robots import JointLimits, Robot, solve_ik
-from optraj.robots.paddle_ik import BALL_OFFSET
 from optraj.validation import (
     as_array,
     as_choice,
@@ -199,43 +205,6 @@ def limit_report(
             allowed=position.limit,
         )
     return report
-
-
-def point_joint_velocity(
-    robot: Robot, q: ArrayLike, velocity: ArrayLike, offset: float = 0.0
-) -> FloatArray:
-    """Joint velocity that moves a tool point at ``velocity`` without turning the tool.
-
-    The point is the tool origin moved ``offset`` along the tool z axis; least squares on the
-    stacked point and angular rows of the Jacobian (exact when the arm can do it).
-
-    Args:
-        robot: The robot.
-        q: Configuration [rad or m], shape (n,).
-        velocity: Point velocity [m/s], shape (3,).
-        offset: Point offset along tool z [m].
-
-    Returns:
-        Joint velocity [rad/s or m/s], shape (n,).
-    """
-    config = as_vector(q, "q", robot.dof)
-    target = as_vector(velocity, "velocity", 3)
-    jac = robot.jacobian(config)
-    lever = offset * robot.tool_pose(config)[:3, 2]
-    # Velocity of the offset point: v + w x lever = v - [lever]x w.
-    point_rows = jac[:3] - pin.skew(lever) @ jac[3:]
-    task = np.vstack([point_rows, jac[3:]])
-    return np.linalg.lstsq(task, np.concatenate([target, np.zeros(3)]), rcond=None)[0]
-
-
-def paddle_contact_velocity(problem: PaddleStrike) -> FloatArray:
-    """Joint velocity at contact of a paddle strike: ball point at speed along the normal."""
-    return point_joint_velocity(
-        problem.robot,
-        problem.q_contact,
-        float(problem.speed) * problem.normal,
-        offset=BALL_OFFSET,
-    )
 
 
 def follow_tool_path(
@@ -421,7 +390,7 @@ class CartesianStraightLine:
             InfeasibleError: A fixed duration whose plan is over the cap, or a plan still
                 over it after three slow-downs (every returned plan is checked).
         """
-        cap = float(problem.speed)  # type: ignore[arg-type]
+        cap = float(problem.speed)  # type: ignore[arg-type]  # called only with a speed set
         target = _LimitsOnly(problem.robot, problem.limits)
         slowdowns = 0
         while True:

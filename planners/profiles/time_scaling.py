@@ -21,7 +21,8 @@ from optraj.planners.base import (
     rest_to_rest_inputs,
     stamp,
 )
-from optraj.planners.profiles.cartesian import paddle_contact_velocity
+from optraj.planners.profiles.contact_velocity import paddle_contact_velocity
+from optraj.planners.profiles.lspb import LSPB
 from optraj.planners.trajectory import Phase, Trajectory
 from optraj.problems import PaddleStrike, PointToPoint
 from optraj.robots import JointLimits
@@ -330,7 +331,7 @@ class _Polynomial(JointProfile):
         boundary = {"v0": zeros, "v1": zeros, "a0": zeros, "a1": zeros}
         return self._segment(q0, q1, limits, duration, boundary)
 
-    def plan(self, problem: PointToPoint | PaddleStrike) -> Trajectory:  # type: ignore[override]
+    def plan(self, problem: PointToPoint | PaddleStrike) -> Trajectory:
         """Plan a PointToPoint, or a paddle4 strike (the seed's: arrive at rest).
 
         A PointToPoint may start and end moving (a cubic meets velocities, a quintic also
@@ -468,7 +469,5 @@ def profile_by_name(name: str) -> JointProfile:
     if name == "quintic":
         return Quintic()
     if name == "lspb":
-        from optraj.planners.profiles.lspb import LSPB
-
         return LSPB()
     raise UnknownNameError("profile", name, ["cubic", "quintic", "lspb"])

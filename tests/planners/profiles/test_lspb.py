@@ -1,4 +1,4 @@
-"""Tests of planners.profiles.lspb: closed forms, synchronised moves, limits, errors."""
+"""Tests of planners.profiles.lspb: synchronised moves, their trajectories, limits, errors."""
 
 from __future__ import annotations
 
@@ -11,14 +11,7 @@ from conftest import get_robot
 
 from optraj import planners, problems
 from optraj.errors import InfeasibleError, InvalidInputError
-from optraj.planners.profiles.lspb import (
-    LSPB,
-    lspb_fixed_blend,
-    lspb_fixed_cruise,
-    lspb_min_time,
-    lspb_shortest_blend,
-    lspb_trajectory,
-)
+from optraj.planners.profiles.lspb import LSPB, lspb_fixed_cruise, lspb_min_time, lspb_trajectory
 from optraj.problems.point_to_point import is_still
 
 QUANTITIES = ("position", "velocity", "acceleration")
@@ -44,64 +37,7 @@ def _sides(traj):
     return left, right
 
 
-# ------------------------------------------------------------------------ closed forms
-
-
-def test_min_time_trapezoid_triangle_zero_and_sign():
-    delta = np.array([2.0, -2.0, 0.1, 0.0, 0.5])
-    vmax = np.array([1.0, 1.0, 1.0, 1.0, 1.0])
-    amax = np.array([2.0, 2.0, 2.0, 2.0, 2.0])
-    timing = lspb_min_time(delta, vmax, amax)
-    # Trapezoid: tb = vmax / amax, T = |d| / vmax + vmax / amax.
-    np.testing.assert_allclose(timing.blend_time[:2], [0.5, 0.5], rtol=0, atol=1e-12)
-    np.testing.assert_allclose(timing.duration[:2], [2.5, 2.5], rtol=0, atol=1e-12)
-    np.testing.assert_allclose(timing.velocity[:2], [1.0, -1.0], rtol=0, atol=1e-12)
-    np.testing.assert_allclose(timing.acceleration[:2], [2.0, -2.0], rtol=0, atol=1e-12)
-    # Triangle (|d| < vmax^2 / amax = 0.5): tb = sqrt(|d| / amax), T = 2 tb, v = amax tb.
-    tb = math.sqrt(0.1 / 2.0)
-    assert timing.blend_time[2] == pytest.approx(tb, abs=1e-12)
-    assert timing.duration[2] == pytest.approx(2 * tb, abs=1e-12)
-    assert timing.velocity[2] == pytest.approx(2.0 * tb, abs=1e-12)
-    # No motion: all zero.
-    assert timing.duration[3] == timing.blend_time[3] == timing.velocity[3] == 0.0
-    assert timing.acceleration[3] == 0.0
-    # On the boundary |d| = vmax^2 / amax both forms agree: tb = 0.5, T = 1.
-    assert timing.blend_time[4] == pytest.approx(0.5, abs=1e-12)
-    assert timing.duration[4] == pytest.approx(1.0, abs=1e-12)
-    # Every timing covers its displacement: d = v (T - tb).
-    np.testing.assert_allclose(
-        timing.velocity * (timing.duration - timing.blend_time), delta, atol=1e-12
-    )
-
-
-def test_min_time_broadcasts_scalars():
-    timing = lspb_min_time([1.0, 4.0], 2.0, 1.0)
-    np.testing.assert_allclose(timing.duration, [2.0, 4.0], atol=1e-12)  # triangle, trapezoid
-
-
-def test_shortest_blend_matches_craig_formula():
-    rng = np.random.default_rng(11)
-    for _ in range(200):
-        a = rng.uniform(0.5, 30.0)
-        d = rng.uniform(-3.0, 3.0)
-        T = math.sqrt(4.0 * abs(d) / a) * rng.uniform(1.0, 4.0)
-        timing = lspb_shortest_blend([d], [a], T)
-        v = (a * T - math.sqrt(a * a * T * T - 4.0 * a * abs(d))) / 2.0  # Craig, sec. 7.3
-        assert abs(timing.velocity[0]) == pytest.approx(v, rel=1e-9, abs=1e-12)
-        assert timing.blend_time[0] == pytest.approx(v / a, rel=1e-9, abs=1e-12)
-        assert abs(timing.acceleration[0]) == pytest.approx(a, rel=1e-12)
-        assert timing.velocity[0] * (T - timing.blend_time[0]) == pytest.approx(d, abs=1e-12)
-
-
-def test_fixed_blend_and_cruise_formulas():
-    delta = np.array([1.5, -0.3, 0.0])
-    timing = lspb_fixed_blend(delta, 2.0, 0.4)
-    np.testing.assert_allclose(timing.velocity, delta / 1.6, atol=1e-12)
-    np.testing.assert_allclose(timing.acceleration, delta / 1.6 / 0.4, atol=1e-12)
-    np.testing.assert_array_equal(timing.blend_time, 0.4)
-    timing = lspb_fixed_cruise(delta, 2.0, 0.5)
-    np.testing.assert_allclose(timing.blend_time, 0.75, atol=1e-12)
-    np.testing.assert_allclose(timing.velocity, 2 * delta / 2.5, atol=1e-12)
+# ----------------------------------------------------------------------------- moves
 
 
 def test_seed_cruise_time_gives_half_the_displacement_per_second():
@@ -359,12 +295,6 @@ def test_bad_inputs_are_typed_errors():
         LSPB().move([0.2, 0, 0], [0.3, 0, 0, 0], limits)
     with pytest.raises(InvalidInputError, match="duration must be >= 1e-06 s, got -1 s"):
         LSPB().move([0.2, 0, 0, 0], [0.3, 0, 0, 0], limits, -1.0)
-    with pytest.raises(InvalidInputError, match="v_max must be > 0"):
-        lspb_min_time([1.0], [0.0], [1.0])
-    with pytest.raises(InvalidInputError, match="matching shapes"):
-        lspb_min_time([1.0, 2.0], [1.0, 1.0, 1.0], 1.0)
-    with pytest.raises(InfeasibleError, match="joint '0' at 4"):
-        lspb_shortest_blend([1.0], [1.0], 1.0)
     with pytest.raises(InvalidInputError, match=r"plans a problems\.PointToPoint"):
         LSPB().plan("not a problem")  # type: ignore[arg-type]
 
@@ -372,10 +302,6 @@ def test_bad_inputs_are_typed_errors():
 # issue 32, defect 6: numbers are numbers (np.array(..., dtype=float) took "1" and True)
 def test_text_and_bools_are_not_numbers():
     limits = get_robot("paddle4").limits
-    with pytest.raises(InvalidInputError, match="delta must be a numeric"):
-        lspb_min_time("1", 1.0, 1.0)
-    with pytest.raises(InvalidInputError, match="v_max must be a numeric"):
-        lspb_min_time(1.0, True, 1.0)
     with pytest.raises(InvalidInputError, match="duration must be a numeric"):
         LSPB().move([0.1, 0, 0, 0], [0.2, 0, 0, 0], limits, "2")
     with pytest.raises(InvalidInputError, match="blend_time must be a numeric"):
