@@ -10,5 +10,5 @@ stays cheap.
 import optraj.errors as errors
 from optraj.errors import *  # noqa: F403  # the errors are the package's public face
 
-__all__ = errors.__all__
+__all__ = list(errors.__all__)
 __version__ = "0.1.0"

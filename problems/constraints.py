@@ -107,7 +107,7 @@ class StrikeLine:
         angle_tolerance: Allowed axis angle to the direction [rad].
         run_up: Distance along the line from the window's start to the contact point [m];
             None for ``speed * contact_delay``. A problem that knows it gives it, so that
-            :attr:`entry_point` is its own entry point to the last bit.
+            :attr:`entry_point` equals the problem's own entry point bit for bit.
     """
 
     phase: str

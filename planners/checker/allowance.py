@@ -2,7 +2,8 @@
 
 Every comparison the checker makes (a limit, a jump, a boundary state) allows the same
 round-off, :func:`round_off`; planners that promise to pass the checker use it too
-(:mod:`planners.time_optimal.ruckig_planner`). :func:`state_allowance` applies it to a
+(Ruckig's conversion, validation and limit scan, and the lower bound in
+:mod:`planners.time_optimal`). :func:`state_allowance` applies it to a
 prescribed start or end state.
 
 Example::

@@ -1,6 +1,18 @@
 """Constrained optimal control: the CasADi NLP, its transcription and its solves.
 
-Import the planner from :mod:`optraj.planners`; the modules here hold its pieces
+Import the planner from :mod:`optraj.planners`; the modules here hold its pieces:
+
+* ``optimal_control``: :class:`OptimalControl`, the planner; ``options``: its settings.
+* ``formulation``: problems into specs (phases, fixed states, task rows, a first guess);
+  ``guesses``: first guesses; ``problem``: the spec and the built NLP's data.
+* ``transcription``: the multiple-shooting NLP; ``structure``, ``rows``, ``parameters``:
+  its shape, its constraint rows, its named parameters; ``task_rows/``: the problem's task
+  constraints as rows and bounds (``strike_line``, ``tool_contact``, ``boundary_state``).
+* ``building``: grids, solver options and the first point; ``solve``: one solver call,
+  warm or cold; ``solution``: reading the solver's point; ``budget``: the wall-time limit.
+* ``rounds`` and ``refinement``: solve, verify and refine until the plan holds;
+  ``strike_search``: the search over contact configurations; ``failures``: the errors.
+
 (:class:`planners.ocp.optimal_control.OptimalControl` is the planner; the names
 :data:`TIGHT_RATIO`, :data:`POSITION_SHRINKS`, :data:`TIME_BUDGET`, :data:`BUDGET_SPENT` are in
 :mod:`planners.ocp.options`, :data:`BINDING` in :mod:`planners.ocp.solution`). A problem's

@@ -1,4 +1,4 @@
-"""Problems turned into specs: phases, fixed node states, parameters and a first guess."""
+"""Problems turned into specs: phases, fixed node states, task rows and a first guess."""
 
 from __future__ import annotations
 

@@ -340,7 +340,7 @@ def torque_nodes(
 ) -> list[int]:
     """Nodes to add torque rows at: around intervals where a torque nears its limit.
 
-    None once every torque keeps within ``1 - torque_margin / 2`` of its limit, or within
+    Empty once every torque keeps within ``1 - torque_margin / 2`` of its limit, or within
     what a fixed state of the problem itself needs of that joint's limit, if more (a
     start holding 99 % of a limit against gravity: :func:`fixed_room`).
     """

@@ -75,7 +75,7 @@ def quintic_segments(points: FloatArray, h: FloatArray) -> FloatArray:
     """One quintic per segment through the via points, C2, at rest at both ends.
 
     Each segment is the quintic Hermite interpolant of its end positions, the via velocities
-    of :func:`_via_velocities` and zero accelerations (so the accelerations agree at every via
+    of :func:`via_velocities` and zero accelerations (so the accelerations agree at every via
     point and the whole is C2).
 
     Returns:

@@ -38,7 +38,8 @@ import casadi as ca
 import numpy as np
 from numpy.typing import NDArray
 
-from optraj.planners.ocp.transcription import Rows, jerk_step, strike_node_rows
+from optraj.planners.ocp.task_rows import strike_node_rows
+from optraj.planners.ocp.transcription import Rows, jerk_step
 from optraj.planners.strike.time_optimal_strike import strike_line
 from optraj.problems import PoolStrike
 from optraj.problems.common import normal_pair

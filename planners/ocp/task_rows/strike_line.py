@@ -39,6 +39,10 @@ if TYPE_CHECKING:
 
 FloatArray = NDArray[np.float64]
 
+#: Relative mismatch allowed between a line's ``run_up`` and ``speed * contact_delay`` (the
+#: round-off of a division and a product).
+RUN_UP_ROUND_OFF = 1e-12
+
 #: Fractions of each interval at which :meth:`StrikeLineRows.misses` measures the line.
 BETWEEN_NODES = (0.25, 0.5, 0.75)
 
@@ -62,13 +66,30 @@ class StrikeLineRows(TaskRows):
         """The rows of ``line`` in the phase of that name among ``phases``.
 
         Raises:
-            InvalidInputError: No phase has the line's name.
+            InvalidInputError: No phase has the line's name; the line does not hold the cue
+                axis along it (these rows always do); or its ``run_up`` is not the distance
+                ``speed * contact_delay`` that the checker's schedule puts before contact.
         """
         if line.phase not in phases:
             raise InvalidInputError(
                 f"the strike line is in phase {line.phase!r}; the phases are {list(phases)}",
                 name="phase",
             )
+        if line.align_axis is not True:
+            raise InvalidInputError(
+                "the optimal-control strike rows hold the cue axis along the line; "
+                f"got a StrikeLine with align_axis={line.align_axis!r}",
+                name="align_axis",
+            )
+        if line.run_up is not None:
+            timed = float(line.speed) * float(line.contact_delay)
+            if abs(float(line.run_up) - timed) > RUN_UP_ROUND_OFF * max(1.0, timed):
+                raise InvalidInputError(
+                    f"StrikeLine.run_up = {line.run_up!r} m, but speed x contact_delay = "
+                    f"{timed!r} m: the schedule would not pass the contact point at "
+                    "contact_delay",
+                    name="run_up",
+                )
         return cls(list(phases).index(line.phase), line)
 
     def values(self) -> dict[str, FloatArray]:

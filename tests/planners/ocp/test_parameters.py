@@ -13,7 +13,7 @@ from optraj.planners.ocp.parameters import ParameterLayout
 LAYOUT = ParameterLayout((("time_scale", 1), ("entry", 3), ("speed", 1)))
 
 
-def test_parameter_vector_names_what_is_wrong():
+def test_layout_vector_names_what_is_wrong():
     assert LAYOUT.vector().size == LAYOUT.size == sum(size for _, size in LAYOUT.entries)
     np.testing.assert_array_equal(LAYOUT.vector(), [1.0, 0.0, 0.0, 0.0, 0.0])
     with pytest.raises(InvalidInputError, match="speed"):

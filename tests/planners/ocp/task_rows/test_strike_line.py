@@ -30,6 +30,19 @@ def test_the_strike_phase_is_found_by_the_line_s_phase_name():
         StrikeLineRows.of(rows.line, ("approach", "stop"))
 
 
+@pytest.mark.parametrize(
+    ("change", "name"),
+    [({"align_axis": False}, "align_axis=False"), ({"run_up": 0.2}, "run_up = 0.2 m")],
+)
+def test_a_line_the_rows_cannot_hold_is_refused(change, name):
+    line = _rows(problems.sawyer_pool_shot(1.0)).line
+    assert line.run_up is not None  # a pool strike gives its run-up
+    with pytest.raises(InvalidInputError, match=name):
+        StrikeLineRows.of(dataclasses.replace(line, **change), PHASES)
+    timed = dataclasses.replace(line, run_up=None)  # the run-up from speed and delay
+    assert StrikeLineRows.of(timed, PHASES).phase == 1
+
+
 def test_rows_of_lines_in_the_same_phase_share_one_nlp_shape():
     one = _rows(problems.sawyer_pool_shot(1.0))
     slow = problems.sawyer_pool_shot(0.5, heading_deg=10.0)
