@@ -21,7 +21,6 @@ __all__ = [
     "as_metadata",
     "as_phases",
     "check_phases_within",
-    "is_collection",
     "picklable",
     "short_repr",
 ]
@@ -32,7 +31,7 @@ def short_repr(value: object) -> str:
     return f"{type(value).__name__} {reprlib.repr(value)}"
 
 
-def is_collection(value: object) -> bool:
+def _is_collection(value: object) -> bool:
     """Whether ``value`` holds items (a list, tuple, generator ...), not a str or a mapping."""
     return isinstance(value, Iterable) and not isinstance(value, (str, bytes, Mapping))
 
@@ -46,7 +45,7 @@ def as_joint_names(joint_names: Sequence[str] | None, n: int) -> tuple[str, ...]
     names: tuple[Any, ...] | None = None
     if joint_names is None:
         names = tuple(f"q{j}" for j in range(n))
-    elif is_collection(joint_names):
+    elif _is_collection(joint_names):
         names = tuple(joint_names)  # once: a generator is spent by one pass
     if names is None or not all(isinstance(name, str) for name in names):
         raise InvalidInputError(
@@ -66,7 +65,7 @@ def as_phases(phases: Iterable[Phase]) -> tuple[Phase, ...]:
     Raises:
         InvalidInputError: Not a collection of :class:`~optraj.planners.phase.Phase`.
     """
-    windows = tuple(phases) if is_collection(phases) else None
+    windows = tuple(phases) if _is_collection(phases) else None
     if windows is None or not all(isinstance(phase, Phase) for phase in windows):
         raise InvalidInputError(
             f"phases must be a sequence of planners.Phase, got {short_repr(phases)}",

@@ -24,10 +24,8 @@ if TYPE_CHECKING:
 
 __all__ = [
     "built_pieces",
-    "cubic_hermite",
     "hermite_pieces",
     "joined",
-    "quintic_hermite",
     "validated_pieces",
     "with_derivatives",
 ]
@@ -106,7 +104,7 @@ def with_derivatives(coefficients: FloatArray) -> list[FloatArray]:
     return result
 
 
-def cubic_hermite(
+def _cubic_hermite(
     p0: FloatArray, p1: FloatArray, v0: FloatArray, v1: FloatArray, h: FloatArray | float
 ) -> list[FloatArray]:
     """Coefficients ``[c0, c1, c2, c3]`` of the cubic from (p0, v0) to (p1, v1) in time h [s].
@@ -118,7 +116,7 @@ def cubic_hermite(
     return [p0, v0, c2, c3]
 
 
-def quintic_hermite(
+def _quintic_hermite(
     p0: FloatArray,
     p1: FloatArray,
     v0: FloatArray,
@@ -131,7 +129,7 @@ def quintic_hermite(
 
     The end conditions on c3, c4, c5 form a 3x3 linear system, solved here in closed form
     (the start gives c0 = p0, c1 = v0, c2 = a0 / 2). Arguments broadcast as for
-    :func:`cubic_hermite`.
+    :func:`_cubic_hermite`.
     """
     dp = p1 - p0 - v0 * h - 0.5 * a0 * h**2
     dv = v1 - v0 - a0 * h
@@ -162,10 +160,10 @@ def hermite_pieces(
         raise InvalidInputError("times must strictly increase", name="times")
     p0, p1, v0, v1 = pos[:-1], pos[1:], vel[:-1], vel[1:]
     if qdd is None:
-        coeffs = np.stack(cubic_hermite(p0, p1, v0, v1, h), axis=1)
+        coeffs = np.stack(_cubic_hermite(p0, p1, v0, v1, h), axis=1)
     else:
         acc = as_array(qdd, "qdd", pos.shape)
-        coeffs = np.stack(quintic_hermite(p0, p1, v0, v1, acc[:-1], acc[1:], h), axis=1)
+        coeffs = np.stack(_quintic_hermite(p0, p1, v0, v1, acc[:-1], acc[1:], h), axis=1)
     return t - t[0], coeffs
 
 

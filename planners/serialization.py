@@ -28,8 +28,6 @@ if TYPE_CHECKING:
 __all__ = [
     "FORMAT",
     "MAX_METADATA_DEPTH",
-    "jsonable",
-    "nesting_depth",
     "read_json",
     "ros_message",
     "trajectory_arguments",
@@ -45,7 +43,7 @@ FORMAT = "optraj.trajectory/1"
 MAX_METADATA_DEPTH = 32
 
 
-def jsonable(value: Any) -> Any:
+def _jsonable(value: Any) -> Any:
     """A metadata value as plain JSON data, or ``None`` when it has no JSON form.
 
     Non-finite floats become their str (``"inf"``), NumPy scalars and arrays plain numbers
@@ -56,17 +54,17 @@ def jsonable(value: Any) -> Any:
     if isinstance(value, float):
         return value if math.isfinite(value) else str(value)
     if isinstance(value, np.generic):
-        return jsonable(value.item())
+        return _jsonable(value.item())
     if isinstance(value, np.ndarray):
-        return [jsonable(v) for v in value.tolist()] if value.dtype != object else None
+        return [_jsonable(v) for v in value.tolist()] if value.dtype != object else None
     if isinstance(value, Mapping):
-        return {str(k): jsonable(v) for k, v in value.items()}
+        return {str(k): _jsonable(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
-        return [jsonable(v) for v in value]
+        return [_jsonable(v) for v in value]
     return None
 
 
-def nesting_depth(value: object) -> int:
+def _nesting_depth(value: object) -> int:
     """How deeply lists, tuples and mappings nest in ``value`` (0 for a scalar).
 
     Walked with a stack, not recursion, so that any depth is measured.
@@ -117,7 +115,7 @@ def write_text(path: object, text: str) -> None:
 
 def trajectory_dict(trajectory: Trajectory) -> dict[str, Any]:
     """The exact trajectory as plain JSON-ready data (metadata without non-JSON values)."""
-    metadata = {k: jsonable(v) for k, v in trajectory.metadata.items()}
+    metadata = {k: _jsonable(v) for k, v in trajectory.metadata.items()}
     return {
         "format": FORMAT,
         "joint_names": list(trajectory.joint_names),
@@ -165,7 +163,7 @@ def trajectory_arguments(data: Mapping[str, Any]) -> dict[str, Any]:
             f"phases must be a list of {{name, t_start, t_end}} objects, got {short_repr(rows)}",
         )
     metadata = data.get("metadata", {})
-    if not isinstance(metadata, Mapping) or nesting_depth(metadata) > MAX_METADATA_DEPTH:
+    if not isinstance(metadata, Mapping) or _nesting_depth(metadata) > MAX_METADATA_DEPTH:
         raise _malformed(
             "metadata",
             f"metadata must be an object nested at most {MAX_METADATA_DEPTH} levels deep, got "

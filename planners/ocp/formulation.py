@@ -108,7 +108,7 @@ def point_to_point_spec(problem: PointToPoint) -> Spec:
         names=("move",),
         durations=(problem.duration,),
         guess=guess,
-        fixed=boundary_states(problem, phases=1),
+        fixed=_boundary_states(problem, phases=1),
     )
 
 
@@ -148,7 +148,7 @@ def waypoints_spec(problem: Waypoints) -> Spec:
         )
         names.append(f"segment {k + 1}")
     guess = Trajectory.sequence(pieces, joint_names=limits.names)
-    start, end = boundary_states(problem, phases=len(names))
+    start, end = _boundary_states(problem, phases=len(names))
     inner = [FixedState(k, "end", points[k + 1], None, None, tol) for k in range(len(points) - 2)]
     fixed = [start, *inner, end]
     durations: tuple[float | None, ...] = (
@@ -159,17 +159,17 @@ def waypoints_spec(problem: Waypoints) -> Spec:
     return Spec(problem.robot, limits, tuple(names), durations, guess, fixed)
 
 
-def constraints_of(problem: Any, kind: type[C]) -> list[C]:
+def _constraints_of(problem: Any, kind: type[C]) -> list[C]:
     """The constraints of ``problem`` (``problem.constraints()``) of one kind, in order."""
     return [item for item in problem.constraints() if isinstance(item, kind)]
 
 
-def boundary_states(problem: Any, phases: int) -> list[FixedState]:
+def _boundary_states(problem: Any, phases: int) -> list[FixedState]:
     """The problem's start and goal states, pinned at the ends of its ``phases`` phases.
 
     From its :class:`problems.constraints.BoundaryState` objects (:meth:`FixedState.of`).
     """
-    return [FixedState.of(state, phases) for state in constraints_of(problem, BoundaryState)]
+    return [FixedState.of(state, phases) for state in _constraints_of(problem, BoundaryState)]
 
 
 def checked_warm_start(problem: Any, warm_start: Any) -> Trajectory | None:
@@ -275,14 +275,14 @@ def pool_spec(
             [("approach", [approach]), ("strike", [line]), ("stop", [brake])],
             joint_names=limits.names,
         )
-    (strike,) = constraints_of(problem, StrikeLine)
+    (strike,) = _constraints_of(problem, StrikeLine)
     return Spec(
         robot=problem.robot,
         limits=limits,
         names=phases,
         durations=(None, problem.window, None),
         guess=guess,
-        fixed=boundary_states(problem, phases=len(phases)),
+        fixed=_boundary_states(problem, phases=len(phases)),
         tasks=(StrikeLineRows.of(strike, phases),),
         contact=choice,
     )
@@ -314,11 +314,11 @@ def paddle_spec(problem: PaddleStrike, choice: ContactChoice) -> Spec:
             names=("approach",),
             durations=(contact_time,),
             guess=guess,
-            fixed=boundary_states(problem, phases=1),
+            fixed=_boundary_states(problem, phases=1),
         )
     qd_contact = choice.qd
-    start, end = boundary_states(problem, phases=2)
-    (contact,) = constraints_of(problem, ToolContact)
+    start, end = _boundary_states(problem, phases=2)
+    (contact,) = _constraints_of(problem, ToolContact)
     approach = quintic_guess(np.asarray(problem.q_start), q_contact, contact_time, qd_contact)
     try:
         brake = stop(q_contact, qd_contact, zero_vector(n), limits, check_limits=False)

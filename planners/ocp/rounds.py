@@ -184,7 +184,7 @@ class RoundFindings:
         return not self.more and not self.misses and self.positions_ok
 
 
-def round_findings(
+def _round_findings(
     planner: OptimalControl,
     traj: Trajectory,
     built: OptimalControlProblem,
@@ -257,7 +257,7 @@ def solve_rounds(
         )
         traj = planner._solve(built)
         solves.append(traj)
-        found = round_findings(planner, traj, built, spec, settings)
+        found = _round_findings(planner, traj, built, spec, settings)
         if found.settled:
             with_totals(traj, solves)
             traj.metadata["rounds"] = round_
@@ -267,10 +267,10 @@ def solve_rounds(
         if not refined(planner, settings, found, built, spec):
             break
         warm_start = traj
-    raise unsettled(planner, found, built, spec, round_)
+    raise _unsettled(planner, found, built, spec, round_)
 
 
-def unsettled(
+def _unsettled(
     planner: OptimalControl,
     found: RoundFindings,
     built: OptimalControlProblem,

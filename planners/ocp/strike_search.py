@@ -198,18 +198,18 @@ def plan_pool_strike(
         seeded = contact_from(problem, warm_start, planner.margin)
         search.searching = time.perf_counter() - started
         if seeded is not None:
-            outcome = seeded_attempt(planner, problem, seeded, warm_start, search)
+            outcome = _seeded_attempt(planner, problem, seeded, warm_start, search)
             if outcome is not None:
                 return outcome
             warm_start = None  # its branch failed: the search's choices start cold
     if planner.contact_retries == 0:
         return planner._plan_alone(problem, warm_start, started, search.searching)
     for candidates in (planner.contact_candidates, 2 * planner.contact_candidates):
-        choices = searched_choices(planner, problem, candidates, search)
+        choices = _searched_choices(planner, problem, candidates, search)
         if choices is None:
             break  # the wider search refused what the first accepted: report the solver
         for choice in choices:
-            outcome = choice_attempt(planner, problem, choice, warm_start, search)
+            outcome = _choice_attempt(planner, problem, choice, warm_start, search)
             if outcome is not None:
                 return outcome
     if search.failure is None:  # pragma: no cover - the first search returns a branch
@@ -218,7 +218,7 @@ def plan_pool_strike(
     raise raised from solver_cause(raised, search.failure)
 
 
-def seeded_attempt(
+def _seeded_attempt(
     planner: OptimalControl,
     problem: PoolStrike,
     seeded: ContactChoice,
@@ -243,7 +243,7 @@ def seeded_attempt(
     return None
 
 
-def searched_choices(
+def _searched_choices(
     planner: OptimalControl, problem: PoolStrike, candidates: int, search: StrikeSearch
 ) -> tuple[ContactChoice, ...] | None:
     """The contact search's new branches over ``candidates`` configurations.
@@ -273,7 +273,7 @@ def searched_choices(
         search.searching += time.perf_counter() - searched
 
 
-def choice_attempt(
+def _choice_attempt(
     planner: OptimalControl,
     problem: PoolStrike,
     choice: ContactChoice,

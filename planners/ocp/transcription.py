@@ -124,7 +124,7 @@ class CompiledNLP:
         scale: Physical scales ``(mid, half, velocity, acceleration, jerk)``, each (n,).
         solver: ``nlpsol`` for cold starts.
         constraint_values: ``(w, p) -> g``, to measure a solution's violations.
-        parameters: The named parameters in ``p`` (:func:`parameter_layout`).
+        parameters: The named parameters in ``p``, laid out from the structure's task rows.
         torque_expansion: ``z (3n, m) -> (t (n, m), J (n, 3n m))``: the torques over the
             effort limits at m scaled node states and their Jacobians, for linear torque
             rows (None without them).
@@ -377,7 +377,7 @@ def _torque_terms(
     return expansion
 
 
-def parameter_layout(structure: Structure) -> ParameterLayout:
+def _parameter_layout(structure: Structure) -> ParameterLayout:
     """The named parameters of the NLP of ``structure``, in order.
 
     ``time_scale`` [s] (the objective's divisor, which keeps it about 1), the parameters of
@@ -407,7 +407,7 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
     mid, half = 0.5 * (lower + upper), 0.5 * (upper - lower)
     as_choice(structure.torque_rows, "torque rows", TORQUE_ROWS)
     w = ca.SX.sym("w", layout.size)
-    parameters = parameter_layout(structure)
+    parameters = _parameter_layout(structure)
     p = ca.SX.sym("p", parameters.size)
     params = parameters.symbols(p)
 
