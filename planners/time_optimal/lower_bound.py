@@ -24,7 +24,7 @@ effort limit (to hold the arm against gravity, say) refuses the whole motion bef
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any, TypedDict, Unpack
+from typing import NamedTuple
 
 import numpy as np
 import ruckig
@@ -42,32 +42,13 @@ from optraj.problems import PointToPoint
 from optraj.robots import JointLimits, Robot
 from optraj.validation import as_array, as_vector, ndim_of
 
-__all__ = [
-    "MoveStates",
-    "check_state_torques",
-    "joint_min_durations",
-    "lower_bound",
-    "lower_bound_va",
-]
+__all__ = ["check_state_torques", "joint_min_durations", "lower_bound", "lower_bound_va"]
 
 FloatArray = NDArray[np.float64]
 
 
-class MoveStates(TypedDict, total=False):
-    """The keyword form of a move for :func:`joint_min_durations` and :func:`lower_bound`.
-
-    ``q_start``, ``q_goal`` and ``limits`` are required; velocities and accelerations
-    default to zero (None is the same as leaving one out).
-
-    Attributes:
-        q_start: Start positions [rad or m], shape (n,).
-        q_goal: Goal positions [rad or m], shape (n,).
-        qd_start: Start velocities [rad/s or m/s], shape (n,); rest when None.
-        qd_goal: Goal velocities [rad/s or m/s], shape (n,); rest when None.
-        qdd_start: Start accelerations [rad/s^2 or m/s^2], shape (n,); zero when None.
-        qdd_goal: Goal accelerations [rad/s^2 or m/s^2], shape (n,); zero when None.
-        limits: Joint limits (velocity, acceleration, jerk).
-    """
+class _Move(NamedTuple):
+    """The keyword form of a move as given: every field None when the problem form is used."""
 
     q_start: ArrayLike | None
     q_goal: ArrayLike | None
@@ -78,25 +59,35 @@ class MoveStates(TypedDict, total=False):
     limits: JointLimits | None
 
 
-#: The fields of :class:`MoveStates`, in the order they are validated.
-_FIELDS = ("q_start", "q_goal", "qd_start", "qd_goal", "qdd_start", "qdd_goal", "limits")
-
-
 def joint_min_durations(
-    problem: PointToPoint | None = None, **move: Unpack[MoveStates]
+    problem: PointToPoint | None = None,
+    *,
+    q_start: ArrayLike | None = None,
+    q_goal: ArrayLike | None = None,
+    qd_start: ArrayLike | None = None,
+    qd_goal: ArrayLike | None = None,
+    qdd_start: ArrayLike | None = None,
+    qdd_goal: ArrayLike | None = None,
+    limits: JointLimits | None = None,
 ) -> FloatArray:
     """Each joint's own minimum time for the move under its velocity/acceleration/jerk limits.
 
     Give either a :class:`problems.PointToPoint` (its states and limits are used) or the
-    keyword form of :class:`MoveStates` (``q_start``, ``q_goal`` and ``limits`` required;
-    velocities and accelerations default to zero)::
+    keyword form (``q_start``, ``q_goal`` and ``limits`` required; velocities and
+    accelerations default to zero)::
 
         joint_min_durations(problem)
         joint_min_durations(q_start=q0, q_goal=q1, limits=robot.limits)
 
     Args:
         problem: The move, or None for the keyword form.
-        **move: The keyword form, :class:`MoveStates`.
+        q_start: Start positions [rad or m], shape (n,).
+        q_goal: Goal positions [rad or m], shape (n,).
+        qd_start: Start velocities [rad/s or m/s], shape (n,); rest when None.
+        qd_goal: Goal velocities [rad/s or m/s], shape (n,); rest when None.
+        qdd_start: Start accelerations [rad/s^2 or m/s^2], shape (n,); zero when None.
+        qdd_goal: Goal accelerations [rad/s^2 or m/s^2], shape (n,); zero when None.
+        limits: Joint limits (velocity, acceleration, jerk).
 
     Returns:
         Minimum durations [s], shape (n,); 0 for a joint already in its goal state.
@@ -106,17 +97,65 @@ def joint_min_durations(
         InfeasibleError: A start or goal state no motion within the limits can leave or
             reach (names the joint).
         SolverError: Ruckig fails; carries its status.
-        TypeError: A keyword that is not a field of :class:`MoveStates`.
     """
-    keywords = _keyword_form(problem, move)
-    box = checked_limits(keywords["limits"])
+    given = _Move(q_start, q_goal, qd_start, qd_goal, qdd_start, qdd_goal, limits)
+    return _min_durations(problem, given)
+
+
+def lower_bound(
+    problem: PointToPoint | None = None,
+    *,
+    q_start: ArrayLike | None = None,
+    q_goal: ArrayLike | None = None,
+    qd_start: ArrayLike | None = None,
+    qd_goal: ArrayLike | None = None,
+    qdd_start: ArrayLike | None = None,
+    qdd_goal: ArrayLike | None = None,
+    limits: JointLimits | None = None,
+) -> float:
+    """The time [s] no trajectory within the joints' box limits can beat for this move.
+
+    The largest of :func:`joint_min_durations`: each joint's exact minimum time under its
+    velocity, acceleration and jerk limits (single-axis Ruckig).
+
+    Args:
+        problem: A :class:`problems.PointToPoint`, or None for the keyword form.
+        q_start: Start positions [rad or m], shape (n,).
+        q_goal: Goal positions [rad or m], shape (n,).
+        qd_start: Start velocities [rad/s or m/s], shape (n,); rest when None.
+        qd_goal: Goal velocities [rad/s or m/s], shape (n,); rest when None.
+        qdd_start: Start accelerations [rad/s^2 or m/s^2], shape (n,); zero when None.
+        qdd_goal: Goal accelerations [rad/s^2 or m/s^2], shape (n,); zero when None.
+        limits: Joint limits (velocity, acceleration, jerk).
+
+    Returns:
+        The bound [s], >= 0 (0 when every joint is already in its goal state).
+
+    Raises:
+        See :func:`joint_min_durations`.
+    """
+    given = _Move(q_start, q_goal, qd_start, qd_goal, qdd_start, qdd_goal, limits)
+    return float(np.max(_min_durations(problem, given)))
+
+
+def _min_durations(problem: PointToPoint | None, given: _Move) -> FloatArray:
+    """The body of :func:`joint_min_durations` (and so of :func:`lower_bound`)."""
+    move = _keyword_form(problem, given)
+    if move.q_start is None or move.q_goal is None or move.limits is None:
+        missing = [name for name in ("q_start", "q_goal", "limits") if getattr(move, name) is None]
+        raise InvalidInputError(
+            f"the lower bound needs a PointToPoint or q_start, q_goal and limits; missing "
+            f"{', '.join(missing)}",
+            name=missing[0],
+        )
+    box = checked_limits(move.limits)
     n = box.n
-    q0 = as_vector(keywords["q_start"], "q_start", n)
-    q1 = as_vector(keywords["q_goal"], "q_goal", n)
-    v0 = state_or_zeros(keywords["qd_start"], "qd_start", n)
-    v1 = state_or_zeros(keywords["qd_goal"], "qd_goal", n)
-    a0 = state_or_zeros(keywords["qdd_start"], "qdd_start", n)
-    a1 = state_or_zeros(keywords["qdd_goal"], "qdd_goal", n)
+    q0 = as_vector(move.q_start, "q_start", n)
+    q1 = as_vector(move.q_goal, "q_goal", n)
+    v0 = state_or_zeros(move.qd_start, "qd_start", n)
+    v1 = state_or_zeros(move.qd_goal, "qd_goal", n)
+    a0 = state_or_zeros(move.qdd_start, "qdd_start", n)
+    a1 = state_or_zeros(move.qdd_goal, "qdd_goal", n)
     check_boundary_states(box, (v0, a0), (v1, a1))
     inp = ruckig_input(
         box,
@@ -130,57 +169,26 @@ def joint_min_durations(
     return np.asarray(native.independent_min_durations, dtype=float)
 
 
-def _keyword_form(problem: PointToPoint | None, move: MoveStates) -> dict[str, Any]:
-    """Every field of :class:`MoveStates`, from the problem or from the keywords given.
+def _keyword_form(problem: PointToPoint | None, given: _Move) -> _Move:
+    """The move from the problem, or the keywords given when there is no problem.
 
     Raises:
-        TypeError: A keyword that is not a field (as Python raises for a signature).
-        InvalidInputError: Both or neither form, or a required field missing.
+        InvalidInputError: A problem that is no PointToPoint, or both forms at once.
     """
-    unknown = [name for name in move if name not in _FIELDS]
-    if unknown:
-        raise TypeError(f"unexpected keyword argument {unknown[0]!r}")
-    keywords: dict[str, Any] = {name: move.get(name) for name in _FIELDS}
-    if problem is not None:
-        if not isinstance(problem, PointToPoint):
-            raise InvalidInputError(
-                f"the lower bound is for a problems.PointToPoint, got {type(problem).__name__}",
-                name="problem",
-            )
-        given = [name for name, value in keywords.items() if value is not None]
-        if given:
-            raise InvalidInputError(
-                f"give a problem or keyword arguments, not both (got {', '.join(given)})",
-                name=given[0],
-            )
-        keywords = {name: getattr(problem, name) for name in _FIELDS}
-    missing = [name for name in ("q_start", "q_goal", "limits") if keywords[name] is None]
-    if missing:
+    if problem is None:
+        return given
+    if not isinstance(problem, PointToPoint):
         raise InvalidInputError(
-            f"the lower bound needs a PointToPoint or q_start, q_goal and limits; missing "
-            f"{', '.join(missing)}",
-            name=missing[0],
+            f"the lower bound is for a problems.PointToPoint, got {type(problem).__name__}",
+            name="problem",
         )
-    return keywords
-
-
-def lower_bound(problem: PointToPoint | None = None, **move: Unpack[MoveStates]) -> float:
-    """The time [s] no trajectory within the joints' box limits can beat for this move.
-
-    The largest of :func:`joint_min_durations`: each joint's exact minimum time under its
-    velocity, acceleration and jerk limits (single-axis Ruckig).
-
-    Args:
-        problem: A :class:`problems.PointToPoint`, or None for the keyword form.
-        **move: The keyword form, :class:`MoveStates`.
-
-    Returns:
-        The bound [s], >= 0 (0 when every joint is already in its goal state).
-
-    Raises:
-        See :func:`joint_min_durations`.
-    """
-    return float(np.max(joint_min_durations(problem, **move)))
+    named = [name for name, value in given._asdict().items() if value is not None]
+    if named:
+        raise InvalidInputError(
+            f"give a problem or keyword arguments, not both (got {', '.join(named)})",
+            name=named[0],
+        )
+    return _Move(*(getattr(problem, name) for name in _Move._fields))
 
 
 def check_state_torques(

@@ -22,6 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import PPoly
 
 from optraj.planners.time_optimal.toppra_constraints import (
+    ToppraPath,
     chord_safe_bound,
     jump_rows,
     normalised_rows,
@@ -127,7 +128,7 @@ class SpeedConstraint(toppra.constraint.LinearConstraint):
     by :func:`chord_safe_bound`.
     """
 
-    def __init__(self, rates: Callable[[Any, FloatArray], FloatArray], dof: int) -> None:
+    def __init__(self, rates: Callable[[ToppraPath, FloatArray], FloatArray], dof: int) -> None:
         super().__init__()
         self.rates = rates
         self.dof = dof

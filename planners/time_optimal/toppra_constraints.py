@@ -24,16 +24,18 @@ functions here.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 import pinocchio as pin
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
+from optraj.planners.time_optimal.toppra_path import toppra_classes
 from optraj.robots import Robot
 
 __all__ = [
     "X_CAP",
+    "ToppraPath",
     "chord_safe_bound",
     "joint_speed_rates",
     "jump_rows",
@@ -51,8 +53,22 @@ X_CAP = 1e16
 _INTERIOR = np.array([0.25, 0.5, 0.75])
 
 
+class ToppraPath(Protocol):
+    """A path as toppra evaluates it: q(s) and its derivatives, called like a function.
+
+    :attr:`GeometricPath.native <planners.time_optimal.toppra_path.GeometricPath.native>`
+    is one. The functions here also read two optional attributes when present:
+    ``rest_points`` (inner knots where the path is at rest) and ``curvature_jumps`` (knots
+    where q'' jumps, see :func:`~planners.time_optimal.toppra_path.curvature_jumps`).
+    """
+
+    def __call__(self, path_positions: ArrayLike, order: int = 0, /) -> FloatArray:
+        """The ``order``-th derivative of q at the path positions, shape (m, n)."""
+        ...
+
+
 def chord_safe_bound(
-    rates: Callable[[Any, FloatArray], FloatArray], path: Any, grid: FloatArray
+    rates: Callable[[ToppraPath, FloatArray], FloatArray], path: ToppraPath, grid: FloatArray
 ) -> FloatArray:
     r"""Upper bounds on :math:`x = \dot s^2` at the gridpoints that also hold in between.
 
@@ -98,20 +114,20 @@ def chord_safe_bound(
     return result
 
 
-def joint_speed_rates(velocity: FloatArray) -> Callable[[Any, FloatArray], FloatArray]:
+def joint_speed_rates(velocity: FloatArray) -> Callable[[ToppraPath, FloatArray], FloatArray]:
     """Joint speeds per unit path velocity over their limits, :math:`|q'(s)| / v`."""
     inverse = 1.0 / velocity
 
-    def rates(path: Any, s: FloatArray) -> FloatArray:
+    def rates(path: ToppraPath, s: FloatArray) -> FloatArray:
         return np.abs(path(s, 1)) * inverse
 
     return rates
 
 
-def tool_speed_rates(robot: Robot, cap: float) -> Callable[[Any, FloatArray], FloatArray]:
+def tool_speed_rates(robot: Robot, cap: float) -> Callable[[ToppraPath, FloatArray], FloatArray]:
     """Tool origin speed per unit path velocity over the cap, :math:`|J_v q'(s)| / v_{max}`."""
 
-    def rates(path: Any, s: FloatArray) -> FloatArray:
+    def rates(path: ToppraPath, s: FloatArray) -> FloatArray:
         return (tool_speed_factor(robot, path(s), path(s, 1)) / cap)[:, None]
 
     return rates
@@ -185,7 +201,7 @@ def normalised_rows(
 
 
 def jump_rows(
-    path: Any, gridpoints: FloatArray
+    path: ToppraPath, gridpoints: FloatArray
 ) -> list[tuple[int, float, FloatArray, FloatArray, FloatArray]]:
     """Grid intervals that end on a curvature jump of the path.
 
@@ -206,8 +222,7 @@ def jump_rows(
 
 def torque_constraint(robot: Robot, effort: FloatArray) -> Any:
     """The joint torque constraint of toppra, fed by the robot's RNEA, without friction."""
-    from optraj.planners.time_optimal import toppra_classes as lib  # imports toppra
-
+    lib = toppra_classes()
     model = robot.model
     data = robot.data
 

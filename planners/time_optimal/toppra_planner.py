@@ -30,7 +30,8 @@ Failures
 
 The pieces, each in its own module of :mod:`planners.time_optimal`:
 
-* ``toppra_path``: the geometric path (spline, PCHIP, line, a trajectory's positions);
+* ``toppra_path``: the geometric path (spline, PCHIP, line, a trajectory's positions)
+  and the lazy import of ``toppra_classes``;
 * ``toppra_path_checks``: the path within the position limits and without corners;
 * ``toppra_problem``: the built problem, :class:`ToppraProblem`, and :data:`MARGIN`;
 * ``toppra_grid``: the gridpoints, their refinement, the stretched parameter of short paths;
@@ -53,10 +54,9 @@ from __future__ import annotations
 
 import math
 import time
-from typing import TypedDict, Unpack
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
 from optraj.planners.time_optimal import toppra_solve
@@ -67,12 +67,13 @@ from optraj.planners.time_optimal.toppra_constraints import (
     normalised_rows,
 )
 from optraj.planners.time_optimal.toppra_grid import grid_for
-from optraj.planners.time_optimal.toppra_path import GeometricPath, curvature_jumps, segment_of
-from optraj.planners.time_optimal.toppra_path_checks import (
-    check_path_positions,
-    check_tangent,
+from optraj.planners.time_optimal.toppra_path import (
+    GeometricPath,
+    curvature_jumps,
+    segment_of,
     waypoint_path,
 )
+from optraj.planners.time_optimal.toppra_path_checks import check_path_positions, check_tangent
 from optraj.planners.time_optimal.toppra_problem import MARGIN, ToppraProblem
 from optraj.planners.time_optimal.toppra_solve import RETRIES
 from optraj.planners.time_optimal.toppra_time_law import compose
@@ -89,7 +90,6 @@ __all__ = [
     "MAX_GRIDPOINTS",
     "RETRIES",
     "GeometricPath",
-    "PathOptions",
     "Toppra",
     "ToppraProblem",
     "chord_safe_bound",
@@ -102,22 +102,6 @@ __all__ = [
 #: Most grid intervals a planner may ask for: this many take seconds to solve, far fewer
 #: (the default is at most 400) already resolve a path, and many more exhaust the memory.
 MAX_GRIDPOINTS = 100_000
-
-
-class PathOptions(TypedDict, total=False):
-    """Keyword arguments of :meth:`Toppra.time_parametrize` (and :meth:`Toppra.build`).
-
-    Attributes:
-        robot: The robot; needed for torque limits or a tool speed cap.
-        sd_start: Path velocity at the start [path units/s], >= 0; the planner's
-            ``start_path_velocity`` when None.
-        sd_end: Path velocity at the end [path units/s], >= 0; the planner's
-            ``end_path_velocity`` when None.
-    """
-
-    robot: Robot | None
-    sd_start: float | None
-    sd_end: float | None
 
 
 class Toppra:
@@ -213,7 +197,13 @@ class Toppra:
         return toppra_solve.solve(built, self.name, started)
 
     def time_parametrize(
-        self, path: ArrayLike | Trajectory, limits: JointLimits, **options: Unpack[PathOptions]
+        self,
+        path: ArrayLike | Trajectory,
+        limits: JointLimits,
+        *,
+        robot: Robot | None = None,
+        sd_start: float | None = None,
+        sd_end: float | None = None,
     ) -> Trajectory:
         """Retime a geometric path as fast as the limits allow.
 
@@ -223,8 +213,11 @@ class Toppra:
                 :class:`~planners.trajectory.Trajectory` whose positions over its own time
                 are the path (s = its time [s]; its phases move to the new times).
             limits: Joint limits to respect; the path must stay within the position limits.
-            **options: ``robot``, ``sd_start``, ``sd_end``, by keyword (see
-                :class:`PathOptions`).
+            robot: The robot; needed for torque limits or a tool speed cap.
+            sd_start: Path velocity at the start [path units/s], >= 0; the planner's
+                ``start_path_velocity`` when None.
+            sd_end: Path velocity at the end [path units/s], >= 0; the planner's
+                ``end_path_velocity`` when None.
 
         Returns:
             The retimed trajectory: exact piecewise polynomials (see :func:`compose`).
@@ -236,7 +229,7 @@ class Toppra:
             InfeasibleError, SolverError: As for :meth:`solve`.
         """
         started = time.perf_counter()
-        built = self.build(path, limits, **options)
+        built = self.build(path, limits, robot=robot, sd_start=sd_start, sd_end=sd_end)
         return toppra_solve.solve(built, self.name, started)
 
     def build(
@@ -283,7 +276,7 @@ class Toppra:
             )
         for k, q in enumerate(points):
             limits.check_position(q, tolerance=1e-9, context=f"path waypoint {k}")
-        geometric, _ = waypoint_path(points, limits)
+        geometric, _ = _waypoint_path(points, limits)
         return self._assemble(geometric, limits, robot, start, end, ())
 
     def solve(self, problem: ToppraProblem) -> Trajectory:
@@ -317,7 +310,7 @@ class Toppra:
             remedy="give segment_durations to hold still and plan with planners.ViaPoints",
         )
         limits = _limits_of(problem)
-        path, index = waypoint_path(np.asarray(problem.waypoints, dtype=float), limits)
+        path, index = _waypoint_path(np.asarray(problem.waypoints, dtype=float), limits)
         s = path.knots[index]
         phases = tuple((f"segment {k + 1}", s[k], s[k + 1]) for k in range(s.size - 1))
         return self._assemble(path, limits, problem.robot, 0.0, 0.0, phases)
@@ -418,6 +411,19 @@ def _path_velocity(value: float, name: str) -> float:
     to it.
     """
     return as_number(value, name, "path units/s", minimum=0.0, maximum=math.sqrt(X_CAP))
+
+
+def _waypoint_path(
+    points: NDArray[np.float64], limits: JointLimits
+) -> tuple[GeometricPath, NDArray[np.intp]]:
+    """:func:`waypoint_path`, its PCHIP fallback confirmed within the position limits.
+
+    The fallback holds by construction; the confirmation is cheap.
+    """
+    path, index = waypoint_path(points, limits)
+    if path.kind == "pchip cubic":
+        check_path_positions(path, limits)
+    return path, index
 
 
 def _limits_of(problem: Waypoints | PointToPoint) -> JointLimits:

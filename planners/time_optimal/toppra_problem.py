@@ -24,7 +24,7 @@ from optraj.planners.time_optimal.toppra_constraints import (
     tool_speed_rates,
     torque_constraint,
 )
-from optraj.planners.time_optimal.toppra_path import GeometricPath
+from optraj.planners.time_optimal.toppra_path import GeometricPath, toppra_classes
 from optraj.robots import JointLimits, Robot
 
 __all__ = ["MARGIN", "ToppraProblem", "initial_scale"]
@@ -78,7 +78,7 @@ class ToppraProblem:
         """
         factor = initial_scale(self)
         factor.update(scale or {})
-        from optraj.planners.time_optimal import toppra_classes as lib  # imports toppra
+        lib = toppra_classes()
 
         limits = self.limits
         constraints = [

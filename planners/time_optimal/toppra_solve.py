@@ -37,6 +37,7 @@ from optraj.planners.time_optimal.toppra_failures import (
     raise_failure,
 )
 from optraj.planners.time_optimal.toppra_grid import refined, stretch_factor
+from optraj.planners.time_optimal.toppra_path import toppra_classes
 from optraj.planners.time_optimal.toppra_problem import ToppraProblem, initial_scale
 from optraj.planners.time_optimal.toppra_time_law import TimeLaw, compose_law
 from optraj.planners.time_optimal.toppra_verify import TARGET, Verification, verify
@@ -138,8 +139,7 @@ def _parametrize(
         InfeasibleError, SolverError: As :func:`~planners.time_optimal.toppra_failures.
             raise_failure` says, when toppra finds no parametrisation.
     """
-    from optraj.planners.time_optimal import toppra_classes as lib  # imports toppra
-
+    lib = toppra_classes()
     instance = lib.TOPPRA(problem.constraints(scale), native, problem.grid * stretch)
     _, sd, _, K = instance.compute_parameterization(
         problem.sd_start * stretch, problem.sd_end * stretch, return_data=True
@@ -204,8 +204,7 @@ def _trajectory(
     solved: _Solved, timing: _Timing, scale: dict[str, float], planner: str, started: float
 ) -> Trajectory:
     """The exact trajectory of the final time law, with its phases and metadata."""
-    from optraj.planners.time_optimal import toppra_classes as lib  # imports toppra
-
+    lib = toppra_classes()
     problem, law = solved.problem, timing.law
     path = problem.path
     breakpoints, coefficients = compose_law(path.knots, path.coefficients, law, problem.segment)

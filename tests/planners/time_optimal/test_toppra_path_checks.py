@@ -10,11 +10,7 @@ from optraj import problems
 from optraj.errors import InvalidInputError, JointLimitError
 from optraj.planners.checker import check
 from optraj.planners.time_optimal.toppra_path import GeometricPath
-from optraj.planners.time_optimal.toppra_path_checks import (
-    check_path_positions,
-    check_tangent,
-    waypoint_path,
-)
+from optraj.planners.time_optimal.toppra_path_checks import check_tangent
 from optraj.planners.time_optimal.toppra_planner import Toppra
 from optraj.planners.trajectory import Trajectory
 
@@ -67,18 +63,6 @@ def test_spline_leaving_the_limits_falls_back_to_a_shape_preserving_path():
 def _spline_as_trajectory(points):
     spline = GeometricPath.spline(points)
     return spline.knots, spline.coefficients
-
-
-def test_waypoint_path_merges_repeated_waypoints_and_maps_them_to_knots():
-    limits = get_robot("paddle4").limits
-    q0 = np.array([0.1, 0.2, 0.3, 0.0])
-    q1 = q0 + 0.2
-    path, index = waypoint_path(np.array([q0, q0, q1, q1 + 1e-13]), limits)
-    np.testing.assert_array_equal(index, [0, 0, 1, 1])
-    assert path.kind == "straight line" or path.knots.size == 2
-    check_path_positions(path, limits)  # within: no error
-    with pytest.raises(InvalidInputError, match="same configuration"):
-        waypoint_path(np.array([q0, q0]), limits)
 
 
 def test_a_corner_is_refused_and_a_smooth_path_passes():

@@ -322,10 +322,9 @@ def test_time_parametrize_passes_its_keyword_options_to_build():
     robot = get_robot("paddle4")
     points = robot.random_configurations(3, np.random.default_rng(6))
     planner = Toppra(gridpoints=40)
-    options: toppra_planner.PathOptions = {"robot": robot, "sd_start": 0.1, "sd_end": 0.05}
-    built = planner.build(points, robot.limits, **options)
+    built = planner.build(points, robot.limits, robot=robot, sd_start=0.1, sd_end=0.05)
     assert (built.sd_start, built.sd_end, built.robot) == (0.1, 0.05, robot)
-    traj = planner.time_parametrize(points, robot.limits, **options)
+    traj = planner.time_parametrize(points, robot.limits, robot=robot, sd_start=0.1, sd_end=0.05)
     assert traj.metadata["sd_start"] == 0.1 and traj.metadata["sd_end"] == 0.05
-    with pytest.raises(TypeError):
+    with pytest.raises(TypeError, match=r"time_parametrize\(\) got an unexpected .*'sd_begin'"):
         planner.time_parametrize(points, robot.limits, sd_begin=0.1)
