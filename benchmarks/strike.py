@@ -34,11 +34,9 @@ import numpy as np
 from benchmarking import SEED, SPEED, pool_shots, progress, shot_arguments, write_report
 from optraj import problems
 from optraj.errors import CONTACT_CHOICE, WINDOW_CHECK, InfeasibleError, OptrajError
+from optraj.planners import registry
 from optraj.planners.checker import Report, check
 from optraj.planners.ocp.optimal_control import OptimalControl
-from optraj.planners.strike.classic_strike import ClassicStrike
-from optraj.planners.strike.seed_strike import SeedStrike
-from optraj.planners.strike.time_optimal_strike import TimeOptimalStrike
 
 RESULTS = Path(__file__).resolve().parent / "results"
 
@@ -48,6 +46,16 @@ REFERENCE = "cubic strike"  # the row motion times are compared with
 #: every row but the seed's compares profiles on the same IK branch (from the problem's own
 #: configuration, the one nearest the start, the line itself breaks a limit on most shots).
 CONTACT = "choose"
+#: Row labels of the registry's pool-shot planners; a planner not named here is labelled
+#: with its own ``name``.
+LABELS = {
+    "seed": "seed (pull back + line)",
+    "cubic": "cubic strike",
+    "quintic": "quintic strike",
+    "lspb": "lspb strike",
+    "toppra": "toppra strike",
+    "ruckig": "ruckig strike",
+}
 TIMED_SHOTS = 40  # shots of the cold, first-plan and warm rows (p95 is not their maximum)
 TORQUE_SHOTS = 10  # shots of the torque rows (each takes rounds of solves)
 GRID_SHOTS = 5  # shots timed at each grid size (medians)
@@ -66,18 +74,13 @@ TORQUE_RUNS: tuple[tuple[str, dict[str, Any], bool], ...] = (
 
 
 def planners_to_compare() -> list[tuple[str, Any]]:
-    """The (row label, planner) pairs of the table, in row order."""
-    pairs: list[tuple[str, Any]] = [
-        ("seed (pull back + line)", SeedStrike()),
-        ("cubic strike", ClassicStrike("cubic", contact=CONTACT)),
-        ("quintic strike", ClassicStrike("quintic", contact=CONTACT)),
-        ("lspb strike", ClassicStrike("lspb", contact=CONTACT)),
-        ("toppra strike", TimeOptimalStrike("toppra", contact=CONTACT)),
-        ("ruckig strike", TimeOptimalStrike("ruckig", contact=CONTACT)),
-    ]
-    for objective in ("time", "jerk"):
-        planner = OptimalControl(objective=objective)
-        pairs.append((planner.name, planner))
+    """The (row label, planner) pairs of the table, in row order: every pool-shot planner of
+    the registry, those that take a contact choosing it (:data:`CONTACT`)."""
+    pairs: list[tuple[str, Any]] = []
+    for name in registry.planner_names("pool-shot"):
+        settings = {"contact": CONTACT} if "contact" in registry.options("pool-shot", name) else {}
+        planner = registry.make_planner("pool-shot", name, **settings)
+        pairs.append((LABELS.get(name, planner.name), planner))
     return pairs
 
 

@@ -8,6 +8,9 @@ that plan it and how to make each one with its default options.
 >>> registry.planner_names("paddle-strike")
 ('cubic', 'quintic', 'toppra', 'ruckig', 'optimal-control', 'optimal-control-jerk')
 >>> planner = registry.make_planner("pool-shot", "ruckig")   # TimeOptimalStrike("ruckig")
+>>> registry.options("pool-shot", "ruckig")
+('samples', 'contact')
+>>> planner = registry.make_planner("pool-shot", "ruckig", contact="choose")
 
 A new planner joins every list with :func:`register_planner` (see the README's "Adding a
 planner").
@@ -15,8 +18,10 @@ planner").
 
 from __future__ import annotations
 
+import inspect
 import re
 from collections.abc import Callable
+from functools import partial
 
 from optraj.errors import InvalidInputError, UnknownNameError
 from optraj.planners.base import Planner
@@ -30,9 +35,10 @@ from optraj.planners.strike.time_optimal_strike import TimeOptimalStrike
 from optraj.planners.time_optimal.ruckig_planner import Ruckig
 from optraj.planners.time_optimal.toppra_planner import Toppra
 
-__all__ = ["KINDS", "make_planner", "planner_names", "register_planner"]
+__all__ = ["KINDS", "make_planner", "options", "planner_names", "register_planner"]
 
-Factory = Callable[[], Planner]
+#: Makes a planner: with no arguments its defaults, with keywords the planner's own options.
+Factory = Callable[..., Planner]
 
 #: The kinds of problem, in the order the CLI lists them.
 KINDS = ("pool-shot", "paddle-strike", "pick-and-place", "point-to-point")
@@ -40,26 +46,26 @@ KINDS = ("pool-shot", "paddle-strike", "pick-and-place", "point-to-point")
 
 def _optimal_control() -> dict[str, Factory]:
     return {
-        "optimal-control": lambda: OptimalControl(objective="time"),
-        "optimal-control-jerk": lambda: OptimalControl(objective="jerk"),
+        "optimal-control": partial(OptimalControl, objective="time"),
+        "optimal-control-jerk": partial(OptimalControl, objective="jerk"),
     }
 
 
 _REGISTRY: dict[str, dict[str, Factory]] = {
     "pool-shot": {
         "seed": SeedStrike,
-        "cubic": lambda: ClassicStrike("cubic"),
-        "quintic": lambda: ClassicStrike("quintic"),
-        "lspb": lambda: ClassicStrike("lspb"),
-        "toppra": lambda: TimeOptimalStrike("toppra"),
-        "ruckig": lambda: TimeOptimalStrike("ruckig"),
+        "cubic": partial(ClassicStrike, "cubic"),
+        "quintic": partial(ClassicStrike, "quintic"),
+        "lspb": partial(ClassicStrike, "lspb"),
+        "toppra": partial(TimeOptimalStrike, "toppra"),
+        "ruckig": partial(TimeOptimalStrike, "ruckig"),
         **_optimal_control(),
     },
     "paddle-strike": {
         "cubic": Cubic,
         "quintic": Quintic,
-        "toppra": lambda: TimeOptimalStrike("toppra"),
-        "ruckig": lambda: TimeOptimalStrike("ruckig"),
+        "toppra": partial(TimeOptimalStrike, "toppra"),
+        "ruckig": partial(TimeOptimalStrike, "ruckig"),
         **_optimal_control(),
     },
     "pick-and-place": {
@@ -94,17 +100,53 @@ def planner_names(kind: str) -> tuple[str, ...]:
     return tuple(_kind(kind))
 
 
-def make_planner(kind: str, name: str) -> Planner:
-    """A new planner called ``name`` for problems of ``kind``, with its default options.
+def _factory(kind: str, name: str) -> Factory:
+    factories = _kind(kind)
+    if name not in factories:
+        raise UnknownNameError(f"planner for {kind}", name, tuple(factories))
+    return factories[name]
+
+
+def options(kind: str, name: str) -> tuple[str, ...]:
+    """The keyword options that :func:`make_planner` passes to the planner ``name`` of ``kind``.
+
+    Raises:
+        UnknownNameError: An unknown kind or planner.
+    """
+    try:
+        parameters = inspect.signature(_factory(kind, name)).parameters.values()
+    except (TypeError, ValueError):  # a factory whose signature Python cannot read
+        return ()
+    return tuple(
+        p.name
+        for p in parameters
+        if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD) and p.default is not p.empty
+    )
+
+
+def make_planner(kind: str, name: str, **settings: object) -> Planner:
+    """A new planner called ``name`` for problems of ``kind``.
+
+    Args:
+        kind: One of :data:`KINDS`.
+        name: One of :func:`planner_names` of that kind.
+        **settings: The planner's own options (:func:`options` lists them), e.g.
+            ``contact="choose"`` for a strike planner; its defaults otherwise.
 
     Raises:
         UnknownNameError: An unknown kind, or a planner that does not plan it (lists the
             ones that do).
+        InvalidInputError: A setting the planner does not take (lists the ones it does).
     """
-    factories = _kind(kind)
-    if name not in factories:
-        raise UnknownNameError(f"planner for {kind}", name, tuple(factories))
-    return factories[name]()
+    factory = _factory(kind, name)
+    unknown = sorted(set(settings) - set(options(kind, name)))
+    if unknown:
+        raise InvalidInputError(
+            f"planner {name!r} for {kind} takes no option {unknown[0]!r}; its options are "
+            f"{list(options(kind, name))}",
+            name=unknown[0],
+        )
+    return factory(**settings)
 
 
 def register_planner(kind: str, name: str, factory: Factory) -> None:
@@ -113,7 +155,9 @@ def register_planner(kind: str, name: str, factory: Factory) -> None:
     Args:
         kind: One of :data:`KINDS`.
         name: Its command-line name: lower case, words joined by ``-``.
-        factory: Makes the planner with its default options (called once per use).
+        factory: Makes the planner with its default options when called with no arguments
+            (once per use), and with the planner's own options as keywords
+            (``functools.partial(MyPlanner, ...)`` or the class itself does both).
 
     Raises:
         UnknownNameError: An unknown kind.

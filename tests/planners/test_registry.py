@@ -55,3 +55,35 @@ def test_a_registered_planner_joins_its_kind_and_the_command_line(monkeypatch):
         registry.register_planner("point-to-point", "other", planners.Cubic())
     with pytest.raises(UnknownNameError):
         registry.register_planner("juggling", "cubic", planners.Cubic)
+
+
+def test_settings_reach_the_planner_and_unknown_ones_are_refused():
+    assert "contact" in registry.options("pool-shot", "cubic")
+    assert "contact" not in registry.options("pool-shot", "seed")
+    chosen = registry.make_planner("pool-shot", "toppra", contact="choose")
+    assert chosen.contact == "choose"
+    assert registry.make_planner("pool-shot", "toppra").contact == "problem"
+    ocp = registry.make_planner("point-to-point", "optimal-control", intervals=7)
+    assert ocp.intervals == 7 and ocp.objective == "time"
+    with pytest.raises(InvalidInputError, match=r"takes no option 'contact'; its options are"):
+        registry.make_planner("pool-shot", "seed", contact="choose")
+    assert registry.options("pick-and-place", "cubic") == ()
+
+
+def test_the_strike_benchmark_compares_every_pool_shot_planner(monkeypatch):
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "benchmarks" / "strike.py"
+    monkeypatch.syspath_prepend(str(path.parent))
+    spec = importlib.util.spec_from_file_location("strike_benchmark", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    kinds = {kind: dict(registry._REGISTRY[kind]) for kind in registry.KINDS}
+    monkeypatch.setattr(registry, "_REGISTRY", kinds)
+    registry.register_planner("pool-shot", "slow-ruckig", planners.TimeOptimalStrike)
+    pairs = module.planners_to_compare()
+    assert len(pairs) == len(registry.planner_names("pool-shot"))
+    label, planner = pairs[-1]  # a planner the table has no label for: its own name
+    assert isinstance(planner, planners.TimeOptimalStrike) and planner.contact == "choose"
+    assert label == planner.name
