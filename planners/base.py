@@ -4,11 +4,13 @@ Joint-space time scalings (cubic, quintic, LSPB) are :class:`JointProfile` s: th
 rest-to-rest move with every joint starting and stopping together (``move``), and from that
 plan a :class:`problems.PointToPoint`. Sequencing planners (via points, pick-and-place) chain
 their moves.
+
+:class:`~planners.compiled_cache.CompiledCache`, the pickling rule of planners that keep
+compiled solvers, lives in its own module and is re-exported here.
 """
 
 from __future__ import annotations
 
-import threading
 import time
 from abc import ABC, abstractmethod
 from typing import Any, Protocol, runtime_checkable
@@ -17,6 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from optraj.errors import InvalidInputError
+from optraj.planners.compiled_cache import CompiledCache
 from optraj.planners.trajectory import Phase, Trajectory
 from optraj.problems import PointToPoint
 from optraj.problems.point_to_point import is_still, still_error
@@ -24,30 +27,6 @@ from optraj.robots import JointLimits
 from optraj.validation import as_duration, as_vector
 
 __all__ = ["CompiledCache", "JointProfile", "Planner", "rest_to_rest_inputs", "stamp"]
-
-
-class CompiledCache:
-    """Pickles without its compiled solvers and its lock; the solvers are rebuilt on demand.
-
-    A subclass keeps its caches (dicts) in the attributes :attr:`caches` names and a
-    ``threading.Lock`` in ``_lock``; a copy, e.g. in a worker process, starts them empty.
-    """
-
-    caches: tuple[str, ...] = ("_compiled",)
-    _lock: threading.Lock
-
-    def __getstate__(self) -> dict[str, Any]:
-        """State without the compiled solvers and the lock."""
-        state = self.__dict__.copy()
-        for name in self.caches:
-            state[name] = {}
-        del state["_lock"]
-        return state
-
-    def __setstate__(self, state: dict[str, Any]) -> None:
-        """Restore from :meth:`__getstate__`."""
-        self.__dict__.update(state)
-        self._lock = threading.Lock()
 
 
 @runtime_checkable
