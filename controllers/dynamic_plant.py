@@ -18,7 +18,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike
 
-from optraj.controllers.plants import Plant, PlantState, frozen_state
+from optraj.controllers.plant import Plant, PlantState, frozen_state
 from optraj.errors import InvalidInputError
 from optraj.robots import Robot
 from optraj.validation import as_flag, as_positive

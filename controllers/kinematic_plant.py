@@ -16,7 +16,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike
 
-from optraj.controllers.plants import (
+from optraj.controllers.plant import (
     FloatArray,
     Plant,
     PlantState,

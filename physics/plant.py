@@ -30,7 +30,7 @@ import mujoco
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from optraj.controllers.plants import Plant, PlantState, frozen_state
+from optraj.controllers.plant import Plant, PlantState, frozen_state
 from optraj.errors import InvalidInputError
 from optraj.physics.contact_watch import ContactWatch
 from optraj.physics.scene import StrikeScene, World

@@ -11,7 +11,7 @@ from scipy.integrate import solve_ivp
 from optraj.controllers.controller import sample_references
 from optraj.controllers.dynamic_plant import DynamicPlant
 from optraj.controllers.kinematic_plant import KinematicPlant
-from optraj.controllers.plants import tool_force_to_joint_velocity
+from optraj.controllers.plant import tool_force_to_joint_velocity
 from optraj.errors import InvalidInputError
 from optraj.planners.trajectory import Trajectory
 

@@ -9,7 +9,7 @@ from plant_support import ROBOTS, alternating_command
 from scipy.integrate import solve_ivp
 
 from optraj.controllers.kinematic_plant import KinematicPlant
-from optraj.controllers.plants import tool_force_to_joint_velocity
+from optraj.controllers.plant import tool_force_to_joint_velocity
 from optraj.errors import InvalidInputError
 
 
