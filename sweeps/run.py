@@ -1,0 +1,132 @@
+"""Run a sweep: plan every shot of a set, serially or in local processes, with resume.
+
+>>> from optraj import sweeps
+>>> shots = sweeps.ShotSet(grid=(2, 2), speeds=(0.3,))
+>>> rows = sweeps.run(shots, planner="ruckig", workers=2, out="map.jsonl")  # doctest: +SKIP
+>>> [row["status"] for row in rows]                                         # doctest: +SKIP
+['planned', 'planned', 'planned', 'refused']
+
+With ``out``, each row is appended to that JSON-lines file as it arrives, and a run given
+the same ``out`` again plans only the shots that have no row there yet.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+
+from optraj.errors import InvalidInputError
+from optraj.planners.registry import make_planner
+from optraj.sweeps.processes import run_processes
+from optraj.sweeps.progress import Progress
+from optraj.sweeps.serial import run_serial
+from optraj.sweeps.shots import Shot
+from optraj.sweeps.store import RowFile, read_rows
+from optraj.validation import MAX_DURATION, as_count, as_flag, as_positive
+
+__all__ = ["MAX_WORKERS", "run"]
+
+#: Most worker processes a sweep may start.
+MAX_WORKERS = 1024
+#: Most shots in one chunk sent to a worker.
+MAX_CHUNK = 16
+
+
+def _shots(shots: Iterable[Shot]) -> list[Shot]:
+    """The shots as a list; refuses anything that is not a Shot, and repeated ids."""
+    try:
+        found = list(shots)
+    except TypeError as exc:
+        raise InvalidInputError(
+            f"shots must be a ShotSet or an iterable of Shot, got {type(shots).__name__}",
+            name="shots",
+        ) from exc
+    seen: set[str] = set()
+    for shot in found:
+        if not isinstance(shot, Shot):
+            raise InvalidInputError(
+                f"shots must hold Shot records, got {type(shot).__name__}", name="shots"
+            )
+        if shot.shot_id in seen:
+            raise InvalidInputError(f"shot {shot.shot_id!r} is given twice", name="shots")
+        seen.add(shot.shot_id)
+    return found
+
+
+def _workers(workers: int | None) -> int:
+    if workers is None:
+        return os.cpu_count() or 1
+    return as_count(workers, "workers", 0, MAX_WORKERS)
+
+
+def run(
+    shots: Iterable[Shot],
+    planner: str = "optimal-control",
+    *,
+    options: Mapping[str, object] | None = None,
+    workers: int | None = None,
+    out: str | os.PathLike[str] | None = None,
+    time_limit: float | None = None,
+    chunk_size: int | None = None,
+    max_shots: int | None = None,
+    progress: bool = True,
+) -> list[dict[str, object]]:
+    """Plan every shot and return one row per shot (:data:`optraj.sweeps.COLUMNS`).
+
+    Args:
+        shots: A :class:`optraj.sweeps.ShotSet`, or any iterable of its :class:`Shot`.
+        planner: A ``pool-shot`` planner's name in :mod:`optraj.planners.registry`.
+        options: The planner's own options (``registry.options("pool-shot", planner)``).
+        workers: Local worker processes; all cores when None, 0 for serial in this process.
+        out: A JSON-lines file the rows are appended to as they arrive; shots that already
+            have a row there are not planned again (their rows are returned as read).
+        time_limit: Longest a shot may take [s] before it is stopped and recorded
+            ``timed out``; none when None.
+        chunk_size: Shots sent to a worker at a time; by default enough for about four
+            chunks per worker, at most 16.
+        max_shots: Plan at most this many new shots in this run (the rest are left for a
+            later run with the same ``out``); all when None.
+        progress: Draw a progress bar on stderr.
+
+    Returns:
+        The rows of the shots that have one, in the order of ``shots``.
+
+    Raises:
+        InvalidInputError: Bad shots, workers, time limit, chunk size, shot limit or option.
+        UnknownNameError: A planner that does not plan pool shots.
+    """
+    found = _shots(shots)
+    count = _workers(workers)
+    seconds = (
+        None if time_limit is None else as_positive(time_limit, "time_limit", "s", MAX_DURATION)
+    )
+    show = as_flag(progress, "progress")
+    limit = len(found) if max_shots is None else as_count(max_shots, "max_shots")
+    made = make_planner("pool-shot", planner, **dict(options or {}))
+    rows = read_rows(Path(out)) if out is not None else {}
+    todo = [shot for shot in found if shot.shot_id not in rows][:limit]
+    size = _chunk_size(chunk_size, len(todo), count)
+    bar = Progress(len(todo), show)
+    with RowFile(out) as file:
+
+        def on_row(row: dict[str, object]) -> None:
+            file.write(row)
+            rows[str(row["shot_id"])] = row
+            bar.advance()
+
+        if count == 0 or not todo:
+            run_serial(todo, made, planner, seconds, on_row)
+        else:
+            workers_used = min(count, math.ceil(len(todo) / size))
+            run_processes(
+                todo, made, planner, seconds, on_row, workers=workers_used, chunk_size=size
+            )
+    return [rows[shot.shot_id] for shot in found if shot.shot_id in rows]
+
+
+def _chunk_size(chunk_size: int | None, shots: int, workers: int) -> int:
+    if chunk_size is not None:
+        return as_count(chunk_size, "chunk_size", 1)
+    return max(1, min(MAX_CHUNK, math.ceil(shots / (4 * max(workers, 1)))))

@@ -1,0 +1,195 @@
+"""Sets of pool shots for a robot: a grid or a seeded random set over the table.
+
+A :class:`ShotSet` describes the shots; iterating over it gives :class:`Shot` records in a
+fixed order, each with a stable id made from its inputs, and ``shot.problem()`` builds the
+:class:`optraj.problems.PoolStrike` to plan.
+
+>>> from optraj import sweeps
+>>> shots = sweeps.ShotSet(x=(0.7, 0.8), y=(0.0, 0.2), grid=(2, 3), speeds=(0.3, 0.6))
+>>> len(shots), shots[0].shot_id
+(12, 'sawyer:x=0.7000:y=0.0000:z=-0.0500:h=0.000:v=0.3000')
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import numpy as np
+
+from optraj import robots
+from optraj.errors import InvalidInputError
+from optraj.problems import PoolStrike
+from optraj.problems.common import MAX_TOOL_SPEED
+from optraj.validation import as_choice, as_count, as_number
+
+__all__ = ["MAX_REACH", "MAX_SHOTS", "Shot", "ShotSet"]
+
+#: Largest |x|, |y| or |z| of a ball position accepted [m]: no arm we ship reaches further.
+MAX_REACH = 5.0
+#: Most shots one set may hold: a map beyond this is a job for many sets.
+MAX_SHOTS = 1_000_000
+
+
+@dataclass(frozen=True)
+class Shot:
+    """One pool shot: where the ball is, which way and how fast the cue strikes it.
+
+    Attributes:
+        shot_id: Stable id made from the inputs (the same shot always has the same id).
+        robot: The robot's name (:func:`optraj.robots.load`).
+        ball: Ball centre in the robot's base frame [m].
+        heading: Shot direction from +x about +z [deg].
+        speed: Cue tip speed at the strike [m/s].
+    """
+
+    shot_id: str
+    robot: str
+    ball: tuple[float, float, float]
+    heading: float
+    speed: float
+
+    def problem(self) -> PoolStrike:
+        """The problem to plan (loads the robot; raises what ``PoolStrike`` raises)."""
+        angle = np.radians(self.heading)
+        return PoolStrike(
+            robots.load(self.robot),
+            ball=np.array(self.ball),
+            direction=np.array((np.cos(angle), np.sin(angle), 0.0)),
+            speed=self.speed,
+        )
+
+
+def make_shot(robot: str, ball: tuple[float, float, float], heading: float, speed: float) -> Shot:
+    """A :class:`Shot` with its id made from the inputs, rounded to 0.1 mm, 1e-3 deg, 0.1 mm/s."""
+    x, y, z = ball
+    shot_id = f"{robot}:x={x:.4f}:y={y:.4f}:z={z:.4f}:h={heading:.3f}:v={speed:.4f}"
+    return Shot(shot_id, robot, (float(x), float(y), float(z)), float(heading), float(speed))
+
+
+def _range(value: object, name: str, unit: str, low: float, high: float) -> tuple[float, float]:
+    """A (first, last) pair within [low, high] with first <= last."""
+    if not isinstance(value, (tuple, list)) or len(value) != 2:
+        raise InvalidInputError(
+            f"{name} must be a (first, last) pair [{unit}], got {value!r}", name=name, value=value
+        )
+    first, last = (as_number(v, name, unit, minimum=low, maximum=high) for v in value)
+    if first > last:
+        raise InvalidInputError(
+            f"{name} must have first <= last, got ({first:.6g}, {last:.6g}) {unit}",
+            name=name,
+            value=value,
+        )
+    return first, last
+
+
+def _values(
+    value: object, name: str, unit: str, low: float, high: float, *, open_low: bool = False
+) -> tuple[float, ...]:
+    """A non-empty tuple of numbers within [low, high] (or (low, high])."""
+    if not isinstance(value, (tuple, list)) or not value:
+        raise InvalidInputError(
+            f"{name} must be a non-empty tuple of numbers [{unit}], got {value!r}",
+            name=name,
+            value=value,
+        )
+    return tuple(
+        as_number(v, name, unit, minimum=low, maximum=high, open_minimum=open_low) for v in value
+    )
+
+
+@dataclass(frozen=True)
+class ShotSet:
+    """Pool shots over a rectangle of the table, for a few headings and speeds.
+
+    On a grid (``samples=None``), the shots are every combination of ``grid[0]`` ball x
+    positions evenly spread over ``x``, ``grid[1]`` y positions over ``y``, each heading and
+    each speed, in that nesting order (x outermost). With ``samples=N``, they are N shots
+    drawn with ``seed``: x and y uniform in their ranges, heading and speed uniform between
+    the smallest and largest of ``headings`` and ``speeds``.
+
+    Attributes:
+        x: First and last ball x [m], base frame.
+        y: First and last ball y [m], base frame.
+        headings: Shot directions from +x about +z [deg], each in [-360, 360].
+        speeds: Cue speeds [m/s], each in (0, MAX_TOOL_SPEED].
+        grid: Ball positions along x and along y, each in [1, 1000].
+        samples: Random shots instead of the grid, or None for the grid.
+        seed: Seed of the random shots.
+        z: Ball centre height [m] (the table height plus the ball's radius).
+        robot: The robot's name (:func:`optraj.robots.known_robots`).
+
+    Raises:
+        InvalidInputError: A value out of its range (the message names it and the limit).
+        UnknownNameError: An unknown robot.
+    """
+
+    x: tuple[float, float] = (0.65, 0.85)
+    y: tuple[float, float] = (-0.05, 0.3)
+    headings: tuple[float, ...] = (0.0,)
+    speeds: tuple[float, ...] = (0.5,)
+    grid: tuple[int, int] = (3, 3)
+    samples: int | None = None
+    seed: int = 0
+    z: float = -0.05
+    robot: str = "sawyer"
+
+    def __post_init__(self) -> None:
+        set_ = object.__setattr__
+        set_(self, "x", _range(self.x, "x", "m", -MAX_REACH, MAX_REACH))
+        set_(self, "y", _range(self.y, "y", "m", -MAX_REACH, MAX_REACH))
+        set_(self, "headings", _values(self.headings, "headings", "deg", -360.0, 360.0))
+        set_(
+            self,
+            "speeds",
+            _values(self.speeds, "speeds", "m/s", 0.0, MAX_TOOL_SPEED, open_low=True),
+        )
+        set_(self, "z", as_number(self.z, "z", "m", minimum=-MAX_REACH, maximum=MAX_REACH))
+        set_(self, "robot", as_choice(self.robot, "robot", robots.known_robots()))
+        set_(self, "seed", as_count(self.seed, "seed", maximum=None))
+        if self.samples is not None:
+            set_(self, "samples", as_count(self.samples, "samples", 1, MAX_SHOTS))
+        self._check_grid()
+
+    def _check_grid(self) -> None:
+        if not isinstance(self.grid, (tuple, list)) or len(self.grid) != 2:
+            raise InvalidInputError(
+                f"grid must be a pair (along x, along y), got {self.grid!r}", name="grid"
+            )
+        grid = (as_count(self.grid[0], "grid", 1, 1000), as_count(self.grid[1], "grid", 1, 1000))
+        object.__setattr__(self, "grid", grid)
+        total = len(self)
+        if total > MAX_SHOTS:
+            raise InvalidInputError(
+                f"a shot set holds at most {MAX_SHOTS} shots, got {total}", name="grid", value=total
+            )
+
+    def __len__(self) -> int:
+        if self.samples is not None:
+            return self.samples
+        return self.grid[0] * self.grid[1] * len(self.headings) * len(self.speeds)
+
+    def __iter__(self) -> Iterator[Shot]:
+        if self.samples is not None:
+            yield from self._random()
+            return
+        xs = np.linspace(*self.x, self.grid[0])
+        ys = np.linspace(*self.y, self.grid[1])
+        for x, y, heading, speed in itertools.product(xs, ys, self.headings, self.speeds):
+            yield make_shot(self.robot, (float(x), float(y), self.z), heading, speed)
+
+    def __getitem__(self, index: int) -> Shot:
+        return self.shots()[index]
+
+    def _random(self) -> Iterator[Shot]:
+        rng = np.random.default_rng(self.seed)
+        for _ in range(len(self)):
+            x, y = rng.uniform(*self.x), rng.uniform(*self.y)
+            heading = rng.uniform(min(self.headings), max(self.headings))
+            speed = rng.uniform(min(self.speeds), max(self.speeds))
+            yield make_shot(self.robot, (float(x), float(y), self.z), float(heading), float(speed))
+
+    def shots(self) -> tuple[Shot, ...]:
+        """Every shot, in the set's order."""
+        return tuple(self)

@@ -1,0 +1,82 @@
+"""Planners that misbehave on purpose, registered for pool shots, for the sweep tests.
+
+They live in an importable module (tests/ is on the path) so that spawned worker processes
+can unpickle them.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import time
+
+from optraj import sweeps
+from optraj.planners import registry
+
+#: A small grid that plans in well under a second with ruckig: 8 shots, some refused.
+SMALL = sweeps.ShotSet(x=(0.7, 0.8), y=(0.0, 0.2), grid=(2, 2), headings=(0.0,), speeds=(0.3, 0.9))
+
+
+class Raising:
+    """Raises on every shot."""
+
+    def plan(self, problem):
+        raise RuntimeError("forced failure")
+
+
+class Sleeping:
+    """Sleeps far past any test's time limit (a Python-level hang)."""
+
+    def plan(self, problem):
+        time.sleep(60.0)
+
+
+class Stuck:
+    """Sleeps with the alarm blocked, as a long call inside a C library would."""
+
+    def plan(self, problem):
+        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGALRM})
+        time.sleep(60.0)
+
+
+for _name, _factory in (("test-raise", Raising), ("test-sleep", Sleeping), ("test-stuck", Stuck)):
+    if _name not in registry.planner_names("pool-shot"):
+        registry.register_planner("pool-shot", _name, _factory)
+
+
+def outcome(rows):
+    """Rows without their wall times, which differ from run to run."""
+    return [{k: v for k, v in row.items() if k != "plan_time"} for row in rows]
+
+
+class Dying:
+    """Ends its worker process on every shot, as a crash in a C library would."""
+
+    def plan(self, problem):
+        os._exit(3)
+
+
+def _refuse():
+    raise RuntimeError("this planner does not load here")
+
+
+class FailsToLoad:
+    """Pickles, but cannot be unpickled in a worker process."""
+
+    def __reduce__(self):
+        return (_refuse, ())
+
+    def plan(self, problem):  # pragma: no cover - never reached
+        raise AssertionError
+
+
+class StuckOnOne:
+    """Plans with ruckig, but gets stuck (as Stuck) on the shot with ball y = 0 and 0.9 m/s."""
+
+    def __init__(self):
+        self.ruckig = registry.make_planner("pool-shot", "ruckig")
+
+    def plan(self, problem):
+        if problem.ball[1] == 0.0 and problem.speed == 0.9:
+            Stuck().plan(problem)
+        return self.ruckig.plan(problem)
