@@ -61,3 +61,9 @@ def test_every_python_block_runs():
     ball, alone = namespace["ball"], namespace["alone"]
     assert ball.within and alone.within
     assert ball.heading_error == pytest.approx(0.053, abs=0.005)
+    # The sweep block's comments.
+    rows = namespace["rows"]
+    assert len(rows) == 8 and [row["status"] for row in rows].count("planned") == 4
+    assert all(row["status"] == "planned" for row in rows if row["speed"] == 0.5)
+    assert rows[1]["binding_joint"] == "right_j1"
+    assert rows[1]["max_speed"] == pytest.approx(1.26, abs=0.005)
