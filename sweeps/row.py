@@ -79,5 +79,6 @@ def _refusal_row(shot: Shot, name: str, exc: Exception) -> dict[str, object]:
     status = "refused" if isinstance(exc, REFUSALS) else "failed"
     row = error_row(shot, name, status, type(exc).__name__, str(exc))
     if isinstance(exc, InfeasibleError):
-        row.update(binding_joint=exc.joint, binding_quantity=exc.limit, max_speed=exc.max_speed)
+        fastest = None if exc.max_speed is None else float(exc.max_speed)
+        row.update(binding_joint=exc.joint, binding_quantity=exc.limit, max_speed=fastest)
     return row

@@ -81,7 +81,8 @@ def run(
         options: The planner's own options (``registry.options("pool-shot", planner)``).
         workers: Local worker processes; all cores when None, 0 for serial in this process.
         out: A JSON-lines file the rows are appended to as they arrive; shots that already
-            have a row there are not planned again (their rows are returned as read).
+            have a row there are not planned again (their rows are returned as read). It
+            must hold rows of this planner only.
         time_limit: Longest a shot may take [s] before it is stopped and recorded
             ``timed out``; none when None.
         chunk_size: Shots sent to a worker at a time; by default enough for about four
@@ -94,7 +95,8 @@ def run(
         The rows of the shots that have one, in the order of ``shots``.
 
     Raises:
-        InvalidInputError: Bad shots, workers, time limit, chunk size, shot limit or option.
+        InvalidInputError: Bad shots, workers, time limit, chunk size, shot limit or option,
+            or an ``out`` file with rows of another planner.
         UnknownNameError: A planner that does not plan pool shots.
     """
     found = _shots(shots)
@@ -105,7 +107,7 @@ def run(
     show = as_flag(progress, "progress")
     limit = len(found) if max_shots is None else as_count(max_shots, "max_shots")
     made = make_planner("pool-shot", planner, **dict(options or {}))
-    rows = read_rows(Path(out)) if out is not None else {}
+    rows = _done(out, planner)
     todo = [shot for shot in found if shot.shot_id not in rows][:limit]
     size = _chunk_size(chunk_size, len(todo), count)
     bar = Progress(len(todo), show)
@@ -124,6 +126,21 @@ def run(
                 todo, made, planner, seconds, on_row, workers=workers_used, chunk_size=size
             )
     return [rows[shot.shot_id] for shot in found if shot.shot_id in rows]
+
+
+def _done(out: str | os.PathLike[str] | None, planner: str) -> dict[str, dict[str, object]]:
+    """The rows already in ``out``; refuses a file of another planner's rows."""
+    if out is None:
+        return {}
+    rows = read_rows(Path(out))
+    others = sorted({str(row.get("planner")) for row in rows.values()} - {planner})
+    if others:
+        raise InvalidInputError(
+            f"out {str(out)!r} holds rows of planner {others[0]!r}, not {planner!r}: "
+            "resume with that planner or write to another file",
+            name="out",
+        )
+    return rows
 
 
 def _chunk_size(chunk_size: int | None, shots: int, workers: int) -> int:

@@ -39,7 +39,24 @@ class Stuck:
         time.sleep(60.0)
 
 
-for _name, _factory in (("test-raise", Raising), ("test-sleep", Sleeping), ("test-stuck", Stuck)):
+class Slow:
+    """Plans with ruckig after a pause, so that a run can be stopped half-way."""
+
+    def __init__(self):
+        self.ruckig = registry.make_planner("pool-shot", "ruckig")
+
+    def plan(self, problem):
+        time.sleep(0.3)
+        return self.ruckig.plan(problem)
+
+
+_PLANNERS = (
+    ("test-raise", Raising),
+    ("test-sleep", Sleeping),
+    ("test-stuck", Stuck),
+    ("test-slow", Slow),
+)
+for _name, _factory in _PLANNERS:
     if _name not in registry.planner_names("pool-shot"):
         registry.register_planner("pool-shot", _name, _factory)
 

@@ -42,27 +42,35 @@ def test_a_killed_run_restarted_plans_every_shot_once(tmp_path):
     script = (
         "import sys, sweeps_support\n"
         "from optraj import sweeps\n"
-        "sweeps.run(sweeps_support.SMALL, planner='test-sleep', workers=0, out=sys.argv[1],"
-        " time_limit=0.5, progress=False)\n"
+        "sweeps.run(sweeps_support.SMALL, planner='test-slow', workers=0, out=sys.argv[1],"
+        " progress=False)\n"
     )
     tests = str(Path(__file__).parents[1])
     env = {**os.environ, "PYTHONPATH": tests + os.pathsep + os.environ.get("PYTHONPATH", "")}
     child = subprocess.Popen([sys.executable, "-c", script, str(out)], env=env)
     deadline = time.monotonic() + 60.0
     while len(read_rows(out)) < 2 and time.monotonic() < deadline:
-        time.sleep(0.05)
+        time.sleep(0.02)
     child.send_signal(signal.SIGKILL)
     child.wait()
-    done = len(read_rows(out))
-    assert 2 <= done < len(SMALL)
-    rows = sweeps.run(SMALL, planner="ruckig", workers=0, out=out, progress=False)
+    done = read_rows(out)
+    assert 2 <= len(done) < len(SMALL)
+    rows = sweeps.run(SMALL, planner="test-slow", workers=2, out=out, progress=False)
     assert [row["shot_id"] for row in rows] == [shot.shot_id for shot in SMALL]
-    assert [row["planner"] for row in rows].count("test-sleep") == done
-    lines = out.read_text().splitlines()
-    assert sorted({json.loads(line)["shot_id"] for line in lines if line.strip()}) == sorted(
+    assert all(rows[i] == row for i, row in enumerate(done.values()))  # not planned again
+    lines = [line for line in out.read_text().splitlines() if line.strip()]
+    assert sorted(json.loads(line)["shot_id"] for line in lines) == sorted(
         shot.shot_id for shot in SMALL
     )
-    assert sum(1 for line in lines if line.strip()) == len(SMALL)
+    serial = sweeps.run(SMALL, planner="ruckig", workers=0, progress=False)
+    assert [r["status"] for r in rows] == [r["status"] for r in serial]
+
+
+def test_a_file_of_another_planner_is_refused(tmp_path):
+    out = tmp_path / "m.jsonl"
+    sweeps.run(SMALL.shots()[:1], planner="cubic", workers=0, out=out, progress=False)
+    with pytest.raises(InvalidInputError, match="holds rows of planner 'cubic', not 'ruckig'"):
+        sweeps.run(SMALL, planner="ruckig", workers=0, out=out, progress=False)
 
 
 def test_raise_and_hang_become_rows_with_their_reason():
