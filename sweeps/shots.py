@@ -180,7 +180,15 @@ class ShotSet:
             yield make_shot(self.robot, (float(x), float(y), self.z), heading, speed)
 
     def __getitem__(self, index: int) -> Shot:
-        return self.shots()[index]
+        """The shot at ``index`` in the set's order (negative counts from the end).
+
+        Raises:
+            IndexError: ``index`` is outside the set.
+        """
+        position = index + len(self) if index < 0 else index
+        if not 0 <= position < len(self):
+            raise IndexError(f"shot index {index} is outside a set of {len(self)} shots")
+        return next(itertools.islice(iter(self), position, None))
 
     def _random(self) -> Iterator[Shot]:
         rng = np.random.default_rng(self.seed)

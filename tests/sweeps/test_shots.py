@@ -15,6 +15,9 @@ def test_grid_order_ids_and_count():
     assert found[0].shot_id == "sawyer:x=0.7000:y=0.0000:z=-0.0500:h=0.000:v=0.5000"
     assert len({s.shot_id for s in found}) == 12
     assert shots.shots() == found  # a fixed order, the same ids every time
+    assert shots[5] == found[5] and shots[-1] == found[-1]
+    with pytest.raises(IndexError, match="outside a set of 12 shots"):
+        shots[12]
 
 
 def test_random_set_is_seeded_and_in_range():
