@@ -56,9 +56,15 @@ _PLANNERS = (
     ("test-stuck", Stuck),
     ("test-slow", Slow),
 )
-for _name, _factory in _PLANNERS:
-    if _name not in registry.planner_names("pool-shot"):
-        registry.register_planner("pool-shot", _name, _factory)
+
+
+def register_misbehaving(monkeypatch):
+    """Register the planners above for pool shots, for one test: the registry is a copy that
+    ``monkeypatch`` puts back, so no other test sees them."""
+    kinds = {kind: dict(registry._REGISTRY[kind]) for kind in registry.KINDS}
+    monkeypatch.setattr(registry, "_REGISTRY", kinds)
+    for name, factory in _PLANNERS:
+        registry.register_planner("pool-shot", name, factory)
 
 
 def outcome(rows):

@@ -42,6 +42,8 @@ def test_a_killed_run_restarted_plans_every_shot_once(tmp_path):
     script = (
         "import sys, sweeps_support\n"
         "from optraj import sweeps\n"
+        "from optraj.planners import registry\n"
+        "registry.register_planner('pool-shot', 'test-slow', sweeps_support.Slow)\n"
         "sweeps.run(sweeps_support.SMALL, planner='test-slow', workers=0, out=sys.argv[1],"
         " progress=False)\n"
     )
