@@ -6,8 +6,9 @@ cumulative chord length), a shape-preserving PCHIP cubic through them
 (:meth:`GeometricPath.pchip`, used where the spline would leave the joint limits), the
 straight joint-space line (:meth:`GeometricPath.line`) or a trajectory's positions over its
 own time (:meth:`GeometricPath.from_trajectory`, s = its time). The functions here evaluate
-and differentiate such piecewise polynomials; :func:`waypoint_path` chooses the spline or the
-PCHIP cubic for waypoints. :attr:`GeometricPath.native` is the same path as a toppra path
+and differentiate such piecewise polynomials
+(:func:`~planners.time_optimal.toppra_path_checks.waypoint_path` chooses the spline or the
+PCHIP cubic for waypoints). :attr:`GeometricPath.native` is the same path as a toppra path
 object (:class:`~planners.time_optimal.toppra_classes.PolynomialPath`); :func:`toppra_classes`
 imports the module of such toppra-derived classes on first use.
 
@@ -29,10 +30,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from optraj.errors import InvalidInputError
 from optraj.planners.trajectory import Trajectory
-from optraj.problems.point_to_point import STILL_TOLERANCE
-from optraj.robots import JointLimits
 
 __all__ = [
     "GeometricPath",
@@ -42,7 +40,6 @@ __all__ = [
     "polyval_local",
     "segment_of",
     "toppra_classes",
-    "waypoint_path",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -288,56 +285,6 @@ def curvature_jumps(
     scale = np.max(np.abs(right)) + np.max(np.abs(left)) + 1e-300
     at = np.flatnonzero(np.max(np.abs(left - right), axis=1) > 1e-9 * scale)
     return knots[at + 1], coefficients[at + 1, 0, :], first[at + 1, 0, :], left[at]
-
-
-def waypoint_path(
-    points: FloatArray, limits: JointLimits
-) -> tuple[GeometricPath, NDArray[np.intp]]:
-    """The spline through waypoints, or the PCHIP cubic where the spline leaves the limits.
-
-    The PCHIP cubic is shape-preserving: it stays within the range of the waypoints, so
-    within the position limits when they are.
-
-    Returns:
-        The path and, for each given waypoint, the index of its knot (a waypoint equal to
-        its predecessor shares its knot).
-
-    Raises:
-        InvalidInputError: Every waypoint is the same configuration.
-    """
-    # a waypoint equal to its predecessor (the rule of problems.PointToPoint.still) is merged
-    step = np.max(np.abs(np.diff(points, axis=0)), axis=1)
-    new = np.concatenate([[True], step > STILL_TOLERANCE])
-    if np.count_nonzero(new) < 2:
-        raise InvalidInputError(
-            "every waypoint is the same configuration: there is no path to parametrise",
-            name="waypoints",
-        )
-    distinct = points[new]
-    path = GeometricPath.spline(distinct)
-    if not _spline_within(path, limits):
-        path = GeometricPath.pchip(distinct)
-    return path, np.cumsum(new) - 1
-
-
-def _spline_within(path: GeometricPath, limits: JointLimits) -> bool:
-    """Whether a cubic path through waypoints within the limits stays within them.
-
-    The waypoints are the segment ends, so only the interior extrema (the roots of each
-    segment's quadratic derivative) need checking; the checker's allowance (1e-9 of each
-    joint's range) counts as within.
-    """
-    c0, c1, c2, c3 = (path.coefficients[:, i, :] for i in range(4))
-    h = np.diff(path.knots)[:, None]
-    a = 3.0 * c3
-    b = 2.0 * c2
-    with np.errstate(divide="ignore", invalid="ignore"):
-        q = -0.5 * (b + np.copysign(np.sqrt(b * b - 4.0 * a * c1), b))
-        roots = np.stack([q / a, c1 / q])  # both roots; -c1/b when a == 0
-    roots = np.where((roots > 0.0) & (roots < h), roots, 0.0)  # NaN fails both: 0
-    values = ((c3 * roots + c2) * roots + c1) * roots + c0
-    slack = 1e-9 * (limits.upper - limits.lower)
-    return bool(np.all(values >= limits.lower - slack) and np.all(values <= limits.upper + slack))
 
 
 def toppra_classes() -> ModuleType:

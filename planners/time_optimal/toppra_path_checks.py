@@ -1,8 +1,9 @@
-"""Checks of a geometric path before TOPPRA retimes it.
+"""A geometric path through waypoints, and its checks before TOPPRA retimes it.
 
 A path must stay within the joint position limits (TOPPRA only chooses the timing) and must
 have no corner (a tangent that jumps at a knot can only be passed at rest). The path through
-waypoints, :func:`~planners.time_optimal.toppra_path.waypoint_path`, passes them.
+waypoints, :func:`waypoint_path`, is built to pass them: the spline where it stays within
+the limits, else the shape-preserving PCHIP cubic, confirmed here.
 
 Example::
 
@@ -18,9 +19,10 @@ from numpy.typing import NDArray
 
 from optraj.errors import InvalidInputError, JointLimitError
 from optraj.planners.time_optimal.toppra_path import GeometricPath, derivative, polyval_local
+from optraj.problems.point_to_point import STILL_TOLERANCE
 from optraj.robots import JointLimits
 
-__all__ = ["check_path_positions", "check_tangent"]
+__all__ = ["check_path_positions", "check_tangent", "waypoint_path"]
 
 FloatArray = NDArray[np.float64]
 
@@ -142,3 +144,54 @@ def check_tangent(path: GeometricPath, limits: JointLimits) -> None:
             "A corner can only be passed at rest; split the path there and retime the pieces",
             name="path",
         )
+
+
+def waypoint_path(
+    points: FloatArray, limits: JointLimits
+) -> tuple[GeometricPath, NDArray[np.intp]]:
+    """The spline through waypoints, or the PCHIP cubic where the spline leaves the limits.
+
+    The PCHIP cubic is shape-preserving: it stays within the range of the waypoints, so
+    within the position limits when they are.
+
+    Returns:
+        The path and, for each given waypoint, the index of its knot (a waypoint equal to
+        its predecessor shares its knot).
+
+    Raises:
+        InvalidInputError: Every waypoint is the same configuration.
+    """
+    # a waypoint equal to its predecessor (the rule of problems.PointToPoint.still) is merged
+    step = np.max(np.abs(np.diff(points, axis=0)), axis=1)
+    new = np.concatenate([[True], step > STILL_TOLERANCE])
+    if np.count_nonzero(new) < 2:
+        raise InvalidInputError(
+            "every waypoint is the same configuration: there is no path to parametrise",
+            name="waypoints",
+        )
+    distinct = points[new]
+    path = GeometricPath.spline(distinct)
+    if not _spline_within(path, limits):
+        path = GeometricPath.pchip(distinct)
+        check_path_positions(path, limits)  # holds by construction; cheap to confirm
+    return path, np.cumsum(new) - 1
+
+
+def _spline_within(path: GeometricPath, limits: JointLimits) -> bool:
+    """Whether a cubic path through waypoints within the limits stays within them.
+
+    The waypoints are the segment ends, so only the interior extrema (the roots of each
+    segment's quadratic derivative) need checking; the checker's allowance (1e-9 of each
+    joint's range) counts as within.
+    """
+    c0, c1, c2, c3 = (path.coefficients[:, i, :] for i in range(4))
+    h = np.diff(path.knots)[:, None]
+    a = 3.0 * c3
+    b = 2.0 * c2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = -0.5 * (b + np.copysign(np.sqrt(b * b - 4.0 * a * c1), b))
+        roots = np.stack([q / a, c1 / q])  # both roots; -c1/b when a == 0
+    roots = np.where((roots > 0.0) & (roots < h), roots, 0.0)  # NaN fails both: 0
+    values = ((c3 * roots + c2) * roots + c1) * roots + c0
+    slack = 1e-9 * (limits.upper - limits.lower)
+    return bool(np.all(values >= limits.lower - slack) and np.all(values <= limits.upper + slack))

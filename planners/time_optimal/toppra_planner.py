@@ -56,7 +56,7 @@ import math
 import time
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
 from optraj.errors import InvalidInputError
 from optraj.planners.time_optimal import toppra_solve
@@ -67,13 +67,12 @@ from optraj.planners.time_optimal.toppra_constraints import (
     normalised_rows,
 )
 from optraj.planners.time_optimal.toppra_grid import grid_for
-from optraj.planners.time_optimal.toppra_path import (
-    GeometricPath,
-    curvature_jumps,
-    segment_of,
+from optraj.planners.time_optimal.toppra_path import GeometricPath, curvature_jumps, segment_of
+from optraj.planners.time_optimal.toppra_path_checks import (
+    check_path_positions,
+    check_tangent,
     waypoint_path,
 )
-from optraj.planners.time_optimal.toppra_path_checks import check_path_positions, check_tangent
 from optraj.planners.time_optimal.toppra_problem import MARGIN, ToppraProblem
 from optraj.planners.time_optimal.toppra_solve import RETRIES
 from optraj.planners.time_optimal.toppra_time_law import compose
@@ -276,7 +275,7 @@ class Toppra:
             )
         for k, q in enumerate(points):
             limits.check_position(q, tolerance=1e-9, context=f"path waypoint {k}")
-        geometric, _ = _waypoint_path(points, limits)
+        geometric, _ = waypoint_path(points, limits)
         return self._assemble(geometric, limits, robot, start, end, ())
 
     def solve(self, problem: ToppraProblem) -> Trajectory:
@@ -310,7 +309,7 @@ class Toppra:
             remedy="give segment_durations to hold still and plan with planners.ViaPoints",
         )
         limits = _limits_of(problem)
-        path, index = _waypoint_path(np.asarray(problem.waypoints, dtype=float), limits)
+        path, index = waypoint_path(np.asarray(problem.waypoints, dtype=float), limits)
         s = path.knots[index]
         phases = tuple((f"segment {k + 1}", s[k], s[k + 1]) for k in range(s.size - 1))
         return self._assemble(path, limits, problem.robot, 0.0, 0.0, phases)
@@ -411,19 +410,6 @@ def _path_velocity(value: float, name: str) -> float:
     to it.
     """
     return as_number(value, name, "path units/s", minimum=0.0, maximum=math.sqrt(X_CAP))
-
-
-def _waypoint_path(
-    points: NDArray[np.float64], limits: JointLimits
-) -> tuple[GeometricPath, NDArray[np.intp]]:
-    """:func:`waypoint_path`, its PCHIP fallback confirmed within the position limits.
-
-    The fallback holds by construction; the confirmation is cheap.
-    """
-    path, index = waypoint_path(points, limits)
-    if path.kind == "pchip cubic":
-        check_path_positions(path, limits)
-    return path, index
 
 
 def _limits_of(problem: Waypoints | PointToPoint) -> JointLimits:

@@ -8,7 +8,6 @@ from conftest import get_robot
 from scipy.interpolate import CubicSpline, PchipInterpolator
 
 from optraj import planners, problems
-from optraj.errors import InvalidInputError
 from optraj.planners.time_optimal.toppra_path import (
     GeometricPath,
     curvature_jumps,
@@ -17,9 +16,7 @@ from optraj.planners.time_optimal.toppra_path import (
     polyval_local,
     segment_of,
     toppra_classes,
-    waypoint_path,
 )
-from optraj.planners.time_optimal.toppra_path_checks import check_path_positions
 
 
 def test_a_stretched_path_is_the_same_path():
@@ -100,18 +97,6 @@ def test_curvature_jumps_of_a_pchip_but_not_of_a_spline():
     np.testing.assert_allclose(q, pchip.native(s), atol=1e-12)
     np.testing.assert_allclose(qs, pchip.native(s, 1), atol=1e-12)
     np.testing.assert_allclose(left, pchip.native(s - 1e-9, 2), atol=1e-5)  # before the knot
-
-
-def test_waypoint_path_merges_repeated_waypoints_and_maps_them_to_knots():
-    limits = get_robot("paddle4").limits
-    q0 = np.array([0.1, 0.2, 0.3, 0.0])
-    q1 = q0 + 0.2
-    path, index = waypoint_path(np.array([q0, q0, q1, q1 + 1e-13]), limits)
-    np.testing.assert_array_equal(index, [0, 0, 1, 1])
-    assert path.kind == "straight line" or path.knots.size == 2
-    check_path_positions(path, limits)  # within: no error
-    with pytest.raises(InvalidInputError, match="same configuration"):
-        waypoint_path(np.array([q0, q0]), limits)
 
 
 def test_toppra_classes_is_the_module_of_the_toppra_derived_classes():

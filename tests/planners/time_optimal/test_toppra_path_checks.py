@@ -10,7 +10,11 @@ from optraj import problems
 from optraj.errors import InvalidInputError, JointLimitError
 from optraj.planners.checker import check
 from optraj.planners.time_optimal.toppra_path import GeometricPath
-from optraj.planners.time_optimal.toppra_path_checks import check_tangent
+from optraj.planners.time_optimal.toppra_path_checks import (
+    check_path_positions,
+    check_tangent,
+    waypoint_path,
+)
 from optraj.planners.time_optimal.toppra_planner import Toppra
 from optraj.planners.trajectory import Trajectory
 
@@ -78,3 +82,15 @@ def test_a_corner_is_refused_and_a_smooth_path_passes():
     )
     with pytest.raises(InvalidInputError, match="corner"):
         check_tangent(corner, limits)
+
+
+def test_waypoint_path_merges_repeated_waypoints_and_maps_them_to_knots():
+    limits = get_robot("paddle4").limits
+    q0 = np.array([0.1, 0.2, 0.3, 0.0])
+    q1 = q0 + 0.2
+    path, index = waypoint_path(np.array([q0, q0, q1, q1 + 1e-13]), limits)
+    np.testing.assert_array_equal(index, [0, 0, 1, 1])
+    assert path.kind == "straight line" or path.knots.size == 2
+    check_path_positions(path, limits)  # within: no error
+    with pytest.raises(InvalidInputError, match="same configuration"):
+        waypoint_path(np.array([q0, q0]), limits)
