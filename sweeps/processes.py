@@ -23,8 +23,7 @@ from concurrent.futures import Future, ProcessPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
-from optraj.planners.base import Planner
-from optraj.sweeps.row import error_row, plan_row
+from optraj.sweeps.job import ShotJob
 from optraj.sweeps.shots import Shot
 
 __all__ = ["ATTEMPTS", "GRACE", "WorkerStartError", "chunks", "run_processes"]
@@ -43,15 +42,15 @@ class WorkerStartError(RuntimeError):
     """The worker processes stopped before planning any shot (the planner did not load)."""
 
 
-def _start_worker(planner: Planner, name: str, seconds: float | None, messages: Any) -> None:
-    _WORKER.update(planner=planner, name=name, seconds=seconds, messages=messages)
+def _start_worker(job: ShotJob, messages: Any) -> None:
+    _WORKER.update(job=job, messages=messages)
 
 
 def _plan_chunk(chunk: list[Shot]) -> None:
     messages = _WORKER["messages"]
     for shot in chunk:
         messages.put(("start", shot.shot_id, os.getpid(), None))
-        row = plan_row(_WORKER["planner"], _WORKER["name"], shot, _WORKER["seconds"])
+        row = _WORKER["job"].row(shot)
         messages.put(("row", shot.shot_id, os.getpid(), row))
 
 
@@ -74,7 +73,7 @@ class _Sweep:
     """The shots still to plan, and how to record a row."""
 
     pending: dict[str, Shot]
-    name: str
+    job: ShotJob
     on_row: Callable[[dict[str, object]], None]
     attempts: dict[str, int] = field(default_factory=dict)
 
@@ -86,31 +85,29 @@ class _Sweep:
 
 def run_processes(
     shots: Sequence[Shot],
-    planner: Planner,
-    name: str,
-    seconds: float | None,
+    job: ShotJob,
     on_row: Callable[[dict[str, object]], None],
     *,
     workers: int,
     chunk_size: int,
 ) -> None:
-    """Plan ``shots`` in ``workers`` spawned processes, passing each row to ``on_row``.
+    """Plan ``shots`` as ``job`` says in ``workers`` spawned processes; rows to ``on_row``.
 
     Raises:
         WorkerStartError: The workers could not start (e.g. the planner does not unpickle).
     """
-    sweep = _Sweep({shot.shot_id: shot for shot in shots}, name, on_row)
+    sweep = _Sweep({shot.shot_id: shot for shot in shots}, job, on_row)
     context = multiprocessing.get_context("spawn")
     with context.Manager() as manager:
         while sweep.pending:
             # A manager's queue sends each message at once: a shot's start is known even
             # when its worker dies right after.
             messages = manager.Queue()
-            setup = (planner, name, seconds, messages)
+            setup = (job, messages)
             with ProcessPoolExecutor(workers, context, _start_worker, setup) as pool:
                 work = chunks(list(sweep.pending.values()), chunk_size)
                 futures = [pool.submit(_plan_chunk, chunk) for chunk in work]
-                state = _watch(sweep, messages, futures, seconds)
+                state = _watch(sweep, messages, futures, job.seconds)
             _drain(sweep, messages, state)
             if sweep.pending and not (state.progressed or state.killed or state.running):
                 errors = [f.exception() for f in futures if f.done() and f.exception()]
@@ -157,7 +154,7 @@ def _kill_stuck(sweep: _Sweep, state: _Round, seconds: float) -> bool:
             del state.running[pid]
             shot = sweep.pending[shot_id]
             message = f"the shot ran past the time limit of {seconds:.6g} s; its worker was killed"
-            sweep.record(shot_id, error_row(shot, sweep.name, "timed out", "ShotTimeout", message))
+            sweep.record(shot_id, sweep.job.error_row(shot, "timed out", "ShotTimeout", message))
             state.killed = True
             return True
     return False
@@ -183,4 +180,4 @@ def _count_deaths(sweep: _Sweep, state: _Round) -> None:
         if sweep.attempts[shot_id] >= ATTEMPTS:
             shot = sweep.pending[shot_id]
             message = f"the worker process died during the shot ({ATTEMPTS} times)"
-            sweep.record(shot_id, error_row(shot, sweep.name, "failed", "WorkerDied", message))
+            sweep.record(shot_id, sweep.job.error_row(shot, "failed", "WorkerDied", message))

@@ -19,6 +19,7 @@ from pathlib import Path
 
 from optraj.errors import InvalidInputError
 from optraj.planners.registry import make_planner
+from optraj.sweeps.job import ShotJob
 from optraj.sweeps.processes import run_processes
 from optraj.sweeps.progress import Progress
 from optraj.sweeps.serial import run_serial
@@ -106,7 +107,7 @@ def run(
     )
     show = as_flag(progress, "progress")
     limit = len(found) if max_shots is None else as_count(max_shots, "max_shots")
-    made = make_planner("pool-shot", planner, **dict(options or {}))
+    job = ShotJob(make_planner("pool-shot", planner, **dict(options or {})), planner, seconds)
     rows = _done(out, planner)
     todo = [shot for shot in found if shot.shot_id not in rows][:limit]
     size = _chunk_size(chunk_size, len(todo), count)
@@ -119,12 +120,10 @@ def run(
             bar.advance()
 
         if count == 0 or not todo:
-            run_serial(todo, made, planner, seconds, on_row)
+            run_serial(todo, job, on_row)
         else:
             workers_used = min(count, math.ceil(len(todo) / size))
-            run_processes(
-                todo, made, planner, seconds, on_row, workers=workers_used, chunk_size=size
-            )
+            run_processes(todo, job, on_row, workers=workers_used, chunk_size=size)
     return [rows[shot.shot_id] for shot in found if shot.shot_id in rows]
 
 

@@ -5,6 +5,7 @@ import sweeps_support
 from sweeps_support import SMALL, outcome
 
 from optraj.planners import registry
+from optraj.sweeps.job import ShotJob
 from optraj.sweeps.processes import ATTEMPTS, GRACE, WorkerStartError, chunks, run_processes
 from optraj.sweeps.serial import run_serial
 
@@ -13,16 +14,15 @@ SHOTS = SMALL.shots()
 
 def _run(planner, name, shots, seconds=None, workers=2, chunk_size=2):
     rows = []
-    run_processes(
-        shots, planner, name, seconds, rows.append, workers=workers, chunk_size=chunk_size
-    )
+    job = ShotJob(planner, name, seconds)
+    run_processes(shots, job, rows.append, workers=workers, chunk_size=chunk_size)
     return rows
 
 
 def test_two_processes_give_the_serial_rows():
     planner = registry.make_planner("pool-shot", "ruckig")
     serial = []
-    run_serial(SHOTS, planner, "ruckig", None, serial.append)
+    run_serial(SHOTS, ShotJob(planner, "ruckig"), serial.append)
     rows = _run(planner, "ruckig", SHOTS, workers=2, chunk_size=3)
     order = {shot.shot_id: i for i, shot in enumerate(SHOTS)}
     rows.sort(key=lambda row: order[row["shot_id"]])
