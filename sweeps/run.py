@@ -68,6 +68,7 @@ def run(
     *,
     options: Mapping[str, object] | None = None,
     workers: int | None = None,
+    scheduler: object | None = None,
     out: str | os.PathLike[str] | None = None,
     time_limit: float | None = None,
     chunk_size: int | None = None,
@@ -81,6 +82,8 @@ def run(
         planner: A ``pool-shot`` planner's name in :mod:`optraj.planners.registry`.
         options: The planner's own options (``registry.options("pool-shot", planner)``).
         workers: Local worker processes; all cores when None, 0 for serial in this process.
+        scheduler: A Dask ``distributed.Client`` or a scheduler address
+            (``"tcp://HOST:PORT"``) to plan on that cluster instead of local processes.
         out: A JSON-lines file the rows are appended to as they arrive; shots that already
             have a row there are not planned again (their rows are returned as read). It
             must hold rows of this planner only.
@@ -101,6 +104,8 @@ def run(
         UnknownNameError: A planner that does not plan pool shots.
     """
     found = _shots(shots)
+    if scheduler is not None:
+        raise InvalidInputError("scheduler is not supported yet", name="scheduler")
     count = _workers(workers)
     seconds = (
         None if time_limit is None else as_positive(time_limit, "time_limit", "s", MAX_DURATION)
