@@ -13,6 +13,7 @@ import difflib
 from collections.abc import Iterable, Sequence
 
 __all__ = [
+    "ClusterError",
     "CompilerError",
     "InfeasibleError",
     "InvalidInputError",
@@ -285,6 +286,18 @@ class CompilerError(OptrajError):
             f"could not compile the generated C code with {compiler!r}: {detail.strip()}; "
             "install a C compiler or evaluate without compiling"
         )
+
+
+class ClusterError(OptrajError, ConnectionError):
+    """A Dask cluster could not be reached, or it had no worker to plan on.
+
+    Attributes:
+        address: The scheduler's address, if known.
+    """
+
+    def __init__(self, message: str, *, address: str | None = None) -> None:
+        self.address = address
+        super().__init__(message)
 
 
 class PathJumpError(OptrajError):

@@ -26,12 +26,22 @@ from typing import Any
 from optraj.sweeps.job import ShotJob
 from optraj.sweeps.shots import Shot
 
-__all__ = ["ATTEMPTS", "GRACE", "WorkerStartError", "chunks", "run_processes"]
+__all__ = [
+    "ATTEMPTS",
+    "GRACE",
+    "MAX_CHUNK",
+    "WorkerStartError",
+    "chunks",
+    "default_chunk_size",
+    "run_processes",
+]
 
 #: Seconds past the time limit before a stuck shot's worker is killed [s].
 GRACE = 2.0
 #: Worker deaths a shot may go through before it is recorded as failed.
 ATTEMPTS = 2
+#: Most shots in one chunk sent to a worker.
+MAX_CHUNK = 16
 #: Seconds the parent waits on the queue before it looks for stuck shots [s].
 POLL = 0.05
 
@@ -57,6 +67,11 @@ def _plan_chunk(chunk: list[Shot]) -> None:
 def chunks(shots: Sequence[Shot], size: int) -> list[list[Shot]]:
     """``shots`` cut in order into lists of ``size`` (the last may be shorter)."""
     return [list(shots[i : i + size]) for i in range(0, len(shots), size)]
+
+
+def default_chunk_size(shots: int, workers: int) -> int:
+    """Shots per chunk: about four chunks per worker, at most :data:`MAX_CHUNK`."""
+    return max(1, min(MAX_CHUNK, -(-shots // (4 * max(workers, 1)))))
 
 
 @dataclass

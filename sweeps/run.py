@@ -12,15 +12,17 @@ the same ``out`` again plans only the shots that have no row there yet.
 
 from __future__ import annotations
 
+import importlib
 import math
 import os
 from collections.abc import Iterable, Mapping
 from pathlib import Path
+from types import ModuleType
 
-from optraj.errors import InvalidInputError
+from optraj.errors import InvalidInputError, MissingDependencyError
 from optraj.planners.registry import make_planner
 from optraj.sweeps.job import ShotJob
-from optraj.sweeps.processes import run_processes
+from optraj.sweeps.processes import default_chunk_size, run_processes
 from optraj.sweeps.progress import Progress
 from optraj.sweeps.serial import run_serial
 from optraj.sweeps.shots import Shot
@@ -31,8 +33,6 @@ __all__ = ["MAX_WORKERS", "run"]
 
 #: Most worker processes a sweep may start.
 MAX_WORKERS = 1024
-#: Most shots in one chunk sent to a worker.
-MAX_CHUNK = 16
 
 
 def _shots(shots: Iterable[Shot]) -> list[Shot]:
@@ -82,8 +82,9 @@ def run(
         planner: A ``pool-shot`` planner's name in :mod:`optraj.planners.registry`.
         options: The planner's own options (``registry.options("pool-shot", planner)``).
         workers: Local worker processes; all cores when None, 0 for serial in this process.
-        scheduler: A Dask ``distributed.Client`` or a scheduler address
-            (``"tcp://HOST:PORT"``) to plan on that cluster instead of local processes.
+        scheduler: A Dask ``distributed.Client``, a Dask cluster object or a scheduler
+            address (``"tcp://HOST:PORT"``): plan on that cluster instead of local
+            processes (``workers`` must then be None). Needs the ``sweeps`` extra.
         out: A JSON-lines file the rows are appended to as they arrive; shots that already
             have a row there are not planned again (their rows are returned as read). It
             must hold rows of this planner only.
@@ -99,13 +100,18 @@ def run(
         The rows of the shots that have one, in the order of ``shots``.
 
     Raises:
-        InvalidInputError: Bad shots, workers, time limit, chunk size, shot limit or option,
-            or an ``out`` file with rows of another planner.
+        InvalidInputError: Bad shots, workers, scheduler, time limit, chunk size, shot limit
+            or option, an ``out`` file with rows of another planner, or both ``workers``
+            and ``scheduler``.
         UnknownNameError: A planner that does not plan pool shots.
+        ClusterError: No Dask scheduler answers at ``scheduler``, or it has no worker.
+        MissingDependencyError: ``scheduler`` given without Dask ``distributed`` installed.
     """
     found = _shots(shots)
-    if scheduler is not None:
-        raise InvalidInputError("scheduler is not supported yet", name="scheduler")
+    if scheduler is not None and workers is not None:
+        raise InvalidInputError(
+            f"give workers or scheduler, not both (got workers={workers!r})", name="workers"
+        )
     count = _workers(workers)
     seconds = (
         None if time_limit is None else as_positive(time_limit, "time_limit", "s", MAX_DURATION)
@@ -115,7 +121,7 @@ def run(
     job = ShotJob(make_planner("pool-shot", planner, **dict(options or {})), planner, seconds)
     rows = _done(out, planner)
     todo = [shot for shot in found if shot.shot_id not in rows][:limit]
-    size = _chunk_size(chunk_size, len(todo), count)
+    size = None if chunk_size is None else as_count(chunk_size, "chunk_size", 1)
     bar = Progress(len(todo), show)
     with RowFile(out) as file:
 
@@ -124,9 +130,12 @@ def run(
             rows[str(row["shot_id"])] = row
             bar.advance()
 
-        if count == 0 or not todo:
+        if scheduler is not None and todo:
+            _cluster().run_dask(todo, job, on_row, scheduler=scheduler, chunk_size=size)
+        elif count == 0 or not todo:
             run_serial(todo, job, on_row)
         else:
+            size = size or default_chunk_size(len(todo), count)
             workers_used = min(count, math.ceil(len(todo) / size))
             run_processes(todo, job, on_row, workers=workers_used, chunk_size=size)
     return [rows[shot.shot_id] for shot in found if shot.shot_id in rows]
@@ -147,7 +156,11 @@ def _done(out: str | os.PathLike[str] | None, planner: str) -> dict[str, dict[st
     return rows
 
 
-def _chunk_size(chunk_size: int | None, shots: int, workers: int) -> int:
-    if chunk_size is not None:
-        return as_count(chunk_size, "chunk_size", 1)
-    return max(1, min(MAX_CHUNK, math.ceil(shots / (4 * max(workers, 1)))))
+def _cluster() -> ModuleType:
+    """The Dask executor's module; refuses when Dask ``distributed`` is not installed."""
+    try:
+        return importlib.import_module("optraj.sweeps.cluster")
+    except ImportError as exc:
+        if (exc.name or "").split(".")[0] not in {"distributed", "dask"}:
+            raise
+        raise MissingDependencyError("distributed", "sweeps", "sweeps.run(scheduler=...)") from exc
