@@ -240,3 +240,23 @@ def test_fingerprint_compare_finds_a_moved_number_and_passes_an_unmoved_one(tmp_
     assert list(module.differences(before, renamed, 1e-9)) == ["/shot/status: 'ok' -> 'failed'"]
     assert module._is_wall("nlp_time") and module._is_wall("contact_time")
     assert not module._is_wall("motion_time") and not module._is_wall("duration_from")
+
+
+def test_sweep_quick_run_writes_its_tables(tmp_path, monkeypatch):
+    module = _load("sweep", monkeypatch)
+    out = tmp_path / "sweep.md"
+    assert module.main(["--quick", "--out", str(out)]) == 0  # raises if a table differs
+    text = out.read_text()
+    throughput = text.split("## Throughput")[1].split("## Dask against")[0]
+    rows = [
+        [c.strip() for c in line.strip("|").split("|")]
+        for line in throughput.splitlines()
+        if line.startswith("| ") and not line.startswith("| executor")
+    ]
+    executors = [(row[0], row[1]) for row in rows]
+    assert executors[0] == ("serial (this process)", "0")
+    assert {("local processes", "2"), ("Dask", "2")} <= set(executors)
+    assert all(float(row[4]) > 0.0 for row in rows)
+    million = text.split("## A million shots")[1]
+    hours = [float(line.split("|")[3]) for line in million.splitlines() if line.startswith("| 1")]
+    assert len(hours) == 3 and hours[0] > hours[1] > hours[2]  # 1, 10, 100 machines

@@ -67,3 +67,6 @@ def test_every_python_block_runs():
     assert all(row["status"] == "planned" for row in rows if row["speed"] == 0.5)
     assert rows[1]["binding_joint"] == "right_j1"
     assert rows[1]["max_speed"] == pytest.approx(1.26, abs=0.005)
+    on_dask = namespace["on_dask"]  # the same sweep on a Dask LocalCluster
+    assert [row["shot_id"] for row in on_dask] == [row["shot_id"] for row in rows]
+    assert [row["status"] for row in on_dask] == [row["status"] for row in rows]
