@@ -1,8 +1,8 @@
 """Every benchmark in one run: time-optimal profiles, pool strikes, tracking; tables and plots.
 
-Runs ``time_optimal.py``, ``strike.py``, ``tracking.py`` and ``outcome.py`` (each writes its
-Markdown table into the output folder; ``outcome.py`` also draws ``outcome_paths.png`` and
-``outcome_heading.png``), then draws the plots (PNG) of the pool shot:
+Runs ``time_optimal.py``, ``strike.py``, ``tracking.py``, ``outcome.py`` and ``sweep.py``
+(each writes its Markdown table into the output folder; ``outcome.py`` also draws
+``outcome_paths.png`` and ``outcome_heading.png``), then draws the plots (PNG) of the pool shot:
 
 * ``profiles.png``: the busiest joint of a Sawyer move by every joint-space planner;
 * ``strike_speed.png``: the cue tip speed of every strike planner that plans the shot;
@@ -25,6 +25,7 @@ from pathlib import Path
 
 import outcome
 import strike
+import sweep
 import time_optimal
 import tracking
 
@@ -44,6 +45,7 @@ BENCHMARKS: list[tuple[str, Callable[[list[str]], int], list[str]]] = [
     ("strike", strike.main, []),
     ("tracking", tracking.main, []),
     ("outcome", outcome.main, []),
+    ("sweep", sweep.main, []),
 ]
 
 
@@ -162,6 +164,15 @@ def results_section(out: Path, plots: Path) -> str:
             "`benchmarks/results/time_optimal.md`):",
             "",
             first_table(read["time_optimal"], "## Durations"),
+            "",
+            f"**Sweeps: shots per second against workers** (`{cite['sweep']}`; details in "
+            "`benchmarks/results/sweep.md`):",
+            "",
+            first_table(read["sweep"], "## Throughput"),
+            "",
+            "A million-shot map, from the measured cost per shot:",
+            "",
+            first_table(read["sweep"], "## A million shots"),
             "",
             END,
         ]

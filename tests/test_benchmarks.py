@@ -141,7 +141,7 @@ def test_tracking_quick_run_writes_its_tables(tmp_path, monkeypatch):
 
 def test_run_all_runs_each_benchmark_draws_the_plots_and_rewrites_the_readme(tmp_path, monkeypatch):
     module = _load("run_all", monkeypatch)
-    module_names = ["time_optimal", "strike", "tracking", "outcome"]
+    module_names = ["time_optimal", "strike", "tracking", "outcome", "sweep"]
     calls = []
 
     def fake(name):
@@ -153,7 +153,9 @@ def test_run_all_runs_each_benchmark_draws_the_plots_and_rewrites_the_readme(tmp
                 f"| a | b |\n|---|---|\n| {name} | 1 |\n\n## Durations\n\n"
                 f"| c |\n|---|\n| {name} durations |\n\n## Controller time per step\n\n"
                 f"| d |\n|---|\n| {name} timing |\n\n## Targets\n\n"
-                f"| e |\n|---|\n| {name} targets |\n"
+                f"| e |\n|---|\n| {name} targets |\n\n## Throughput\n\n"
+                f"| f |\n|---|\n| {name} throughput |\n\n## A million shots\n\n"
+                f"| g |\n|---|\n| {name} million |\n"
             )
             return 0
 
@@ -173,6 +175,7 @@ def test_run_all_runs_each_benchmark_draws_the_plots_and_rewrites_the_readme(tmp
     assert "stale" not in text and text.startswith("# optraj\n\nbefore") and "after" in text
     assert "| strike | 1 |" in text and "| tracking timing |" in text
     assert "| time_optimal durations |" in text and "| outcome targets |" in text
+    assert "| sweep throughput |" in text and "| sweep million |" in text
     assert "/outcome_paths.png)" in text and "/outcome_heading.png)" in text
     assert f"]({out.resolve()}/tracking.png)" in text  # outside the repository: absolute
 
