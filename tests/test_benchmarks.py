@@ -260,6 +260,7 @@ def test_sweep_quick_run_writes_its_tables(tmp_path, monkeypatch):
     assert executors[0] == ("serial (this process)", "0")
     assert {("local processes", "2"), ("Dask", "2")} <= set(executors)
     assert all(float(row[4]) > 0.0 for row in rows)
+    assert all(float(row[5]) >= 0.0 and float(row[6]) > 0.0 for row in rows[1:])
     million = text.split("## A million shots")[1]
     hours = [float(line.split("|")[3]) for line in million.splitlines() if line.startswith("| 1")]
     assert len(hours) == 3 and hours[0] > hours[1] > hours[2]  # 1, 10, 100 machines
