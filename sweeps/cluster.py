@@ -26,7 +26,7 @@ import distributed
 
 from optraj.errors import ClusterError, InvalidInputError
 from optraj.sweeps.job import ShotJob
-from optraj.sweeps.processes import GRACE, chunks, default_chunk_size
+from optraj.sweeps.processes import GRACE, WorkerStartError, chunks, default_chunk_size
 from optraj.sweeps.shots import Shot
 
 __all__ = ["CONNECT_TIMEOUT", "connect", "run_dask"]
@@ -143,6 +143,8 @@ def run_dask(
 
     Raises:
         InvalidInputError, ClusterError: As :func:`connect`.
+        WorkerStartError: The workers cannot load the job (e.g. the planner does not
+            unpickle there).
     """
     client, opened = connect(scheduler)
     try:
@@ -173,14 +175,25 @@ class _Sweep:
     def run(self, shots: Sequence[Shot], size: int) -> None:
         """Submit ``shots`` in chunks of ``size`` and record every row."""
         self.pending = {shot.shot_id for shot in shots}
-        self.client.register_plugin(_JobPlugin(self.job), name=self.plugin)
+        try:
+            self.client.register_plugin(_JobPlugin(self.job), name=self.plugin)
+        except Exception as exc:  # the scheduler passes a worker's error on as Exception
+            self._forget()
+            raise WorkerStartError(f"the Dask workers could not load the planner: {exc}") from exc
         try:
             for chunk in chunks(shots, size):
                 self._submit(chunk)
             for future in self.work:
                 self._take(future)
         finally:
+            self._forget()
+
+    def _forget(self) -> None:
+        """Take the job off the workers (and off any that join later)."""
+        try:
             self.client.unregister_worker_plugin(self.plugin)
+        except Exception:  # never registered, or the cluster is gone: nothing to undo
+            return
 
     def _submit(self, chunk: list[Shot]) -> None:
         future = self.client.submit(_plan_chunk, self.plugin, chunk, pure=False)

@@ -6,13 +6,14 @@ import time
 import cluster_support
 import dask
 import pytest
+import sweeps_support
 from distributed import Client, LocalCluster
 from sweeps_support import SMALL, outcome
 
 from optraj import sweeps
 from optraj.errors import ClusterError, InvalidInputError
 from optraj.sweeps import cluster, read_rows
-from optraj.sweeps.processes import GRACE
+from optraj.sweeps.processes import GRACE, WorkerStartError
 
 #: 40 shots, about half of them refused at 0.9 m/s.
 FORTY = sweeps.ShotSet(x=(0.65, 0.85), y=(-0.05, 0.3), grid=(4, 5), speeds=(0.3, 0.9))
@@ -123,13 +124,21 @@ def test_a_worker_killed_mid_sweep_loses_no_shot(tmp_path):
 def test_a_shot_that_kills_its_worker_each_time_is_a_failed_row():
     shots = SMALL.shots()[:1]
     with dask.config.set({"distributed.scheduler.allowed-failures": 1}), _local_cluster(1) as c:
-        import sweeps_support
-
         from optraj.planners import registry
 
         registry.register_planner("pool-shot", "test-die", sweeps_support.Dying)
         rows = sweeps.run(shots, planner="test-die", scheduler=c, progress=False)
     assert rows[0]["status"] == "failed" and rows[0]["error_type"] == "WorkerDied"
+
+
+def test_a_planner_the_workers_cannot_load_stops_the_sweep(local_cluster):
+    from optraj.planners import registry
+
+    registry.register_planner("pool-shot", "test-unloadable", sweeps_support.FailsToLoad)
+    with pytest.raises(WorkerStartError, match=r"could not load the planner.*does not load here"):
+        sweeps.run(SMALL, planner="test-unloadable", scheduler=local_cluster)
+    rows = sweeps.run(SMALL.shots()[:1], planner="ruckig", scheduler=local_cluster)
+    assert rows[0]["status"] == "planned"  # the cluster is left as it was
 
 
 def test_bad_schedulers_are_refused(monkeypatch):
