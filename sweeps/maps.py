@@ -98,6 +98,13 @@ def rows_of(data: Any) -> list[dict[str, object]]:
                 name="rows",
                 value=missing[0],
             )
+        for name in NEEDED[:4]:
+            if _number(row[name]) is None:
+                raise InvalidInputError(
+                    f"rows[{index}][{name!r}] must be a number, got {row[name]!r}",
+                    name="rows",
+                    value=row[name],
+                )
     return [dict(row) for row in rows]
 
 

@@ -61,7 +61,8 @@ def plot_max_speed(rows: Any, *, headings: Iterable[float] | None = None) -> Any
         MissingDependencyError: matplotlib is not installed.
     """
     maps = heading_maps(rows, "max_speed", headings=headings)
-    return _draw(maps, "max_speed", "Fastest reachable cue speed")
+    missing = "no max_speed: out of reach, or none recorded"
+    return _draw(maps, "max_speed", "Fastest reachable cue speed", missing)
 
 
 def plot_motion_time(
@@ -82,7 +83,7 @@ def plot_motion_time(
     """
     maps = heading_maps(rows, "motion_time", speed=speed, headings=headings, one_per_point=True)
     title = "Motion time" + ("" if speed is None else f" at {speed:.6g} m/s")
-    return _draw(maps, "motion_time", title)
+    return _draw(maps, "motion_time", title, "not planned: refused or failed")
 
 
 def _edges(centres: np.ndarray) -> np.ndarray:
@@ -100,7 +101,8 @@ def _norm(maps: list[HeadingMap], mpl: Any) -> Any:
         return mpl.colors.Normalize(0.0, 1.0)
     low, high = float(finite.min()), float(finite.max())
     if math.isclose(low, high):
-        low, high = low - 0.5 * max(abs(low), 1.0) * 0.1, high + 0.5 * max(abs(high), 1.0) * 0.1
+        pad = 0.05 * max(abs(low), 1.0)  # one value: a scale around it
+        low, high = low - pad, high + pad
     return mpl.colors.Normalize(low, high)
 
 
@@ -137,8 +139,11 @@ def _panel(ax: Any, one: HeadingMap, norm: Any, mpl: Any) -> None:
     ax.grid(alpha=0.3)
 
 
-def _draw(maps: list[HeadingMap], column: str, title: str) -> Any:
-    """A figure of one panel per map, with a shared colour bar and a no-value legend."""
+def _draw(maps: list[HeadingMap], column: str, title: str, missing: str) -> Any:
+    """A figure of one panel per map with a shared colour bar.
+
+    ``missing`` is the legend of the cells (or points) without a value.
+    """
     mpl = _matplotlib()
     columns = min(len(maps), COLUMNS_PER_ROW)
     lines = math.ceil(len(maps) / columns)
@@ -162,7 +167,7 @@ def _draw(maps: list[HeadingMap], column: str, title: str) -> Any:
         grid = any(one.on_grid for one in maps)
         figure.legend(
             handles=[hatched if grid else cross],
-            labels=["no value: refused or failed"],
+            labels=[missing],
             loc="outside lower center",
         )
     figure.suptitle(title)

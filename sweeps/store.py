@@ -111,8 +111,10 @@ class RowFile:
             self._file = None
         if self._table is not None:
             table, self._table = self._table, None
-            parquet.write_parquet(read_rows(table).values(), table)
-            journal_path(table).unlink(missing_ok=True)
+            journal = journal_path(table)
+            if not table.exists() or journal.stat().st_size:  # else nothing new to fold in
+                parquet.write_parquet(read_rows(table).values(), table)
+            journal.unlink(missing_ok=True)
 
     def __enter__(self) -> RowFile:
         return self

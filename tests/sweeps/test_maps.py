@@ -105,6 +105,8 @@ def test_a_dataframe_is_read_as_its_rows():
         (lambda: heading_maps({"a": 1}, "max_speed"), "rows must be sweep rows"),
         (lambda: heading_maps([{"ball_x": 0.7}], "max_speed"), "lacks the column 'ball_y'"),
         (lambda: heading_maps(grid_rows(), "nope"), "no column 'nope'"),
+        (lambda: heading_maps([empty_row() | {"ball_x": 0.7, "ball_y": 0.1, "heading": "x"}],
+                              "max_speed"), "rows[0]['heading'] must be a number, got 'x'"),
         (lambda: heading_maps(grid_rows(), "motion_time", speed=0.7),
          "speed 0.7 m/s is not in the rows; their speeds: 0.3, 0.9 m/s"),
         (lambda: heading_maps(grid_rows(), "motion_time", speed=-1.0), "speed must be > 0 m/s"),

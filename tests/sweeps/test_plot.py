@@ -4,7 +4,9 @@ import sys
 
 import numpy as np
 import pytest
+from sweeps_support import SMALL
 
+from optraj import sweeps
 from optraj.errors import InvalidInputError, MissingDependencyError
 from optraj.sweeps import plot_max_speed, plot_motion_time
 from optraj.sweeps.columns import empty_row
@@ -64,6 +66,17 @@ def test_max_speed_map_has_a_panel_per_heading_and_the_values_at_their_cells():
         (base,) = ax.lines
         assert base.get_xydata().tolist() == [[0.0, 0.0]]  # the robot base, marked
     assert any(ax.get_ylabel() == "max speed [m/s]" for ax in figure.axes)  # the colour bar
+    assert "no max_speed" in figure.legends[0].get_texts()[0].get_text()
+
+
+def test_a_real_sweep_is_drawn_with_its_motion_times():
+    rows = sweeps.run(SMALL, planner="cubic", workers=0, progress=False)
+    (panel,) = _panels(plot_motion_time(rows, speed=0.3))
+    colours = np.ma.asarray(panel.collections[-1].get_array()).reshape(2, 2)
+    for row in rows:
+        if row["speed"] == 0.3:
+            i, j = [0.7, 0.8].index(row["ball_x"]), [0.0, 0.2].index(row["ball_y"])
+            assert colours[j, i] == row["motion_time"]
 
 
 def test_motion_time_map_shows_the_chosen_speed():

@@ -58,7 +58,12 @@ def test_a_parquet_path_journals_rows_then_folds_them_into_the_table(tmp_path):
         file.write(empty_row() | {"shot_id": "a", "status": "failed"})
     rows = read_rows(path)
     assert list(rows) == ["a", "b"] and rows["a"]["status"] == "planned"  # the first row wins
-    assert read_parquet(path) == list(rows.values())
+    assert [row["status"] for row in read_parquet(path)] == ["planned", "refused"]
+    written = (path.stat().st_ino, path.stat().st_mtime_ns)
+    with RowFile(path):
+        pass  # nothing new: the table is left as it is
+    assert (path.stat().st_ino, path.stat().st_mtime_ns) == written  # not replaced
+    assert not journal_path(path).exists()
 
 
 def test_a_journal_left_by_a_killed_run_is_read_and_folded_in(tmp_path):
