@@ -119,10 +119,12 @@ def _sweep(args: argparse.Namespace, out: TextIO) -> int:
     counts = {status: 0 for status in sweeps.STATUSES}
     for row in rows:
         counts[str(row["status"])] = counts.get(str(row["status"]), 0) + 1
-    layout = f"{shots.samples} random" if shots.samples else "x".join(map(str, shots.grid))
+    spread = shots.samples is not None
+    layout = f"{shots.samples} random" if spread else "x".join(map(str, shots.grid))
     out.write(
         f"map of {shots.robot} with {planner}: {len(shots)} shots ({layout} positions, "
-        f"headings {_listed(shots.headings)} deg, speeds {_listed(shots.speeds)} m/s)\n"
+        f"headings {_listed(shots.headings, spread)} deg, speeds "
+        f"{_listed(shots.speeds, spread)} m/s)\n"
         f"  {', '.join(f'{status} {count}' for status, count in counts.items())}\n"
     )
     left = len(shots) - len(rows)
@@ -132,7 +134,10 @@ def _sweep(args: argparse.Namespace, out: TextIO) -> int:
     return 0
 
 
-def _listed(values: Sequence[float]) -> str:
+def _listed(values: Sequence[float], spread: bool = False) -> str:
+    """The values, or with ``spread`` (a random set) the range they are drawn from."""
+    if spread and len(values) > 1:
+        return f"{min(values):g} to {max(values):g}"
     return ", ".join(f"{value:g}" for value in values)
 
 

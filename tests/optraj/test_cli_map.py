@@ -116,6 +116,7 @@ def test_every_sweep_option_reaches_sweeps_run(monkeypatch, tmp_path):
             "--workers", "3", "--out", str(tmp_path / "m.jsonl")]  # fmt: skip
     status, text = _run(argv)
     assert status == 0 and "5 shots left" in text
+    assert "5 shots (5 random positions, headings -10 to 10 deg, speeds 0.5 m/s)" in text
     assert seen["shots"] == sweeps.ShotSet(samples=5, seed=3, headings=(-10.0, 10.0))
     assert seen["planner"] == "ruckig" and seen["scheduler"] == "tcp://10.0.0.1:8786"
     assert (seen["time_limit"], seen["max_shots"], seen["workers"]) == (2.5, 4, 3)
