@@ -5,7 +5,8 @@ ECE486 seed's paddle table, the checker on classic plans, then the Sawyer pool s
 every strike planner, checked, tracked by both controllers, with plots and plans written to
 ``--out``. ``optraj plan`` plans one problem with one planner and writes the trajectory as
 JSON, ``optraj check`` judges such a file again, ``optraj bench`` runs the benchmarks of the
-source checkout, ``optraj robots`` lists the robots.
+source checkout, ``optraj robots`` lists the robots, ``optraj map`` sweeps pool shots over the
+table and draws their heat maps (:mod:`optraj.cli_map`).
 
 Errors print one line to stderr (``optraj: error: ...``) and exit with status 2; ``check``
 exits 1 when a trajectory fails. The packages are imported lazily so that ``optraj --help``
@@ -36,6 +37,7 @@ __all__ = [
     "tag_trajectory",
 ]
 
+from optraj.cli_map import add_map_parser
 from optraj.cli_problems import PROBLEMS, build_problem, check_fit, joint_words
 
 
@@ -328,6 +330,7 @@ def _parser() -> argparse.ArgumentParser:
     )
     bench.add_argument("--quick", action="store_true", help="a few cases only, as in CI")
     bench.set_defaults(run=_cmd_bench)
+    add_map_parser(sub)
     return parser
 
 
