@@ -149,3 +149,21 @@ def test_bad_schedulers_are_refused(monkeypatch):
     monkeypatch.setattr(cluster, "CONNECT_TIMEOUT", 1.0)
     with pytest.raises(ClusterError, match=r"no Dask scheduler answered at 'tcp://127.0.0.1:9'"):
         sweeps.run(SMALL, planner="ruckig", scheduler="tcp://127.0.0.1:9")
+
+
+def test_the_map_command_plans_on_a_scheduler_address(local_cluster, tmp_path):
+    from io import StringIO
+
+    from optraj import cli
+
+    out = tmp_path / "map.parquet"
+    printed = StringIO()
+    argv = ["map", "sawyer", "--grid", "2x2", "--speeds", "0.3,0.9", "--planner", "ruckig"]
+    argv += ["--x", "0.7,0.8", "--y", "0.0,0.2", "--out", str(out)]
+    status = cli.main([*argv, "--scheduler", local_cluster.scheduler_address], out=printed)
+    assert status == 0, printed.getvalue()
+    serial = sweeps.run(SMALL, planner="ruckig", workers=0, progress=False)
+    on_dask = sweeps.read_parquet(out)
+    assert sorted(outcome(on_dask), key=lambda r: r["shot_id"]) == sorted(
+        outcome(serial), key=lambda r: r["shot_id"]
+    )
