@@ -12,6 +12,10 @@ binding joints). Reported, as ratios of the same run:
   shot's serial plan time (target <= 5 %);
 * what a map of a million shots would take on N machines, from the measured cost per shot.
 
+It then draws the map of the README, ``sweep_map.png`` beside the table: the fastest cue
+speed the velocity limits allow over the table for three headings (a grid sweep in local
+processes, planner ``ruckig`` choosing its contact).
+
 Usage: ``python benchmarks/sweep.py [--quick] [--shots N] [--planner NAME] [--out PATH]``
 """
 
@@ -39,6 +43,11 @@ QUICK_PLANNER = "ruckig"
 MACHINES = (1, 10, 100)
 MACHINE_CORES = 16
 MILLION = 1_000_000
+#: The map's grid: ball positions along x and y, headings [deg], cue speed [m/s].
+MAP_GRID = (12, 10)
+QUICK_MAP_GRID = (2, 2)
+MAP_HEADINGS = (0.0, 45.0, 90.0)
+MAP_SPEED = 0.5
 #: Columns that must agree between executors (the rest are wall times).
 COMPARED = ("shot_id", "status", "error_type", "binding_joint", "motion_time", "check_ok")
 
@@ -195,6 +204,33 @@ def _steady(run: Run, serial: float) -> float:
     return serial / (run.workers * max(run.wall - run.start, 1e-9))
 
 
+def map_shots(quick: bool) -> sweeps.ShotSet:
+    """The map's shots: a grid over the table for each heading, at :data:`MAP_SPEED`."""
+    return sweeps.ShotSet(
+        x=(0.55, 0.95),
+        y=(-0.3, 0.45),
+        grid=QUICK_MAP_GRID if quick else MAP_GRID,
+        headings=MAP_HEADINGS[:1] if quick else MAP_HEADINGS,
+        speeds=(MAP_SPEED,),
+    )
+
+
+def draw_map(quick: bool, image: Path) -> dict[str, int]:
+    """Sweep :func:`map_shots`, save the max-speed heat map to ``image``; status counts."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    options = {"contact": "choose"}
+    rows = sweeps.run(map_shots(quick), "ruckig", options=options, progress=False)
+    figure = sweeps.plot_max_speed(rows)
+    image.parent.mkdir(parents=True, exist_ok=True)
+    figure.savefig(image, dpi=100)
+    counts: dict[str, int] = {}
+    for row in rows:
+        counts[str(row["status"])] = counts.get(str(row["status"]), 0) + 1
+    return counts
+
+
 def _arguments(argv: list[str] | None) -> argparse.Namespace:
     def extra(parser: argparse.ArgumentParser) -> None:
         parser.add_argument("--planner", default=None, help=f"pool-shot planner ({PLANNER})")
@@ -222,7 +258,18 @@ def main(argv: list[str] | None = None) -> int:
     args = _arguments(argv)
     counts = sorted({1, 2, _cores()})
     found = measure(shot_set(args.shots), args.planner, counts)
-    write_report(report(found, args.shots, args.planner, _command(args)), args.out)
+    lines = report(found, args.shots, args.planner, _command(args))
+    image = args.out.parent / "sweep_map.png"
+    made = draw_map(args.quick, image)
+    shown = ", ".join(f"{count} {status}" for status, count in sorted(made.items()))
+    lines += [
+        "",
+        "## Map",
+        "",
+        f"`{image.name}`: {sum(made.values())} shots at {MAP_SPEED:g} m/s ({shown}); the "
+        "colour is the fastest cue speed the velocity limits allow at the chosen contact.",
+    ]
+    write_report(lines, args.out)
     return 0
 
 

@@ -264,3 +264,5 @@ def test_sweep_quick_run_writes_its_tables(tmp_path, monkeypatch):
     million = text.split("## A million shots")[1]
     hours = [float(line.split("|")[3]) for line in million.splitlines() if line.startswith("| 1")]
     assert len(hours) == 3 and hours[0] > hours[1] > hours[2]  # 1, 10, 100 machines
+    assert (tmp_path / "sweep_map.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "## Map" in text and "4 shots at 0.5 m/s" in text
