@@ -11,15 +11,21 @@ An exception while tracking or judging (a paddle strike at speed 0 sends no ball
 controller that fails) does not lose the planned row: :func:`outcome_columns` records it as
 ``outcome_error`` and leaves the other outcome columns None. A shot's time limit still
 stops it (:class:`optraj.sweeps.time_limit.ShotTimeout` is recorded the same way).
+
+MuJoCo and the controllers are imported on the first outcome, not with the sweeps (a sweep
+that does not track its plans starts its workers without them).
 """
 
 from __future__ import annotations
 
 import time
+from typing import TYPE_CHECKING
 
-from optraj import controllers, physics
 from optraj.planners.trajectory import Trajectory
 from optraj.problems import PaddleStrike, PoolStrike
+
+if TYPE_CHECKING:
+    from optraj.physics import Outcome
 
 __all__ = ["CONTROL_PERIOD", "SETTLE", "outcome_columns", "track"]
 
@@ -29,7 +35,7 @@ CONTROL_PERIOD = 1e-3
 SETTLE = 0.05
 
 
-def track(trajectory: Trajectory, problem: PoolStrike | PaddleStrike) -> physics.Outcome:
+def track(trajectory: Trajectory, problem: PoolStrike | PaddleStrike) -> Outcome:
     """Track ``trajectory`` with DiffIKQP on the MuJoCo plant of ``problem``; the outcome.
 
     Raises:
@@ -37,6 +43,8 @@ def track(trajectory: Trajectory, problem: PoolStrike | PaddleStrike) -> physics
             does not fit the problem's robot.
         SolverError: The controller's QP fails.
     """
+    from optraj import controllers, physics  # MuJoCo: loaded when a sweep tracks its plans
+
     robot = problem.robot
     result = controllers.simulate(
         robot,

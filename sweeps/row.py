@@ -7,9 +7,10 @@ and message. Before planning, it searches the shot's contact once
 (:func:`optraj.planners.strike.contact.choose_contact`, its defaults: 16 candidates, seed 0,
 no margin) for the fastest strike speed the velocity limits allow there and its binding
 joint (:func:`contact_columns`); a search that fails leaves those columns None and the rest of
-the row as the planner makes it. The planners' own contact searches are not shared: the
-search costs about 0.1 s per Sawyer pool shot (roughly 2.7 times a Ruckig plan, 0.14 times an
-optimal-control plan) and 2 ms per paddle strike.
+the row as the planner makes it. The planners' own contact searches are not shared with it
+(no planner takes a chosen contact yet): the search costs about 0.06 s per Sawyer pool shot,
+which doubles a Ruckig shot's plan time and adds about a fifth to an optimal-control shot's,
+and under 1 ms per paddle strike.
 """
 
 from __future__ import annotations
