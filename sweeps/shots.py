@@ -2,7 +2,9 @@
 
 A :class:`ShotSet` describes the shots; iterating over it gives :class:`Shot` records in a
 fixed order, each with a stable id made from its inputs, and ``shot.problem()`` builds the
-:class:`optraj.problems.PoolStrike` to plan.
+:class:`optraj.problems.PoolStrike` to plan. A shot's ``kind`` is the registry kind of its
+problem (:data:`KINDS`): ``"pool-shot"`` here, ``"paddle-strike"`` for the paddle shots of
+:mod:`optraj.sweeps.paddle_shots`.
 
 >>> from optraj import sweeps
 >>> shots = sweeps.ShotSet(x=(0.7, 0.8), y=(0.0, 0.2), grid=(2, 3), speeds=(0.3, 0.6))
@@ -19,29 +21,48 @@ from dataclasses import dataclass
 import numpy as np
 
 from optraj import robots
-from optraj.errors import InvalidInputError
-from optraj.problems import PoolStrike
+from optraj.errors import InvalidInputError, UnknownNameError
+from optraj.problems import PaddleStrike, PoolStrike
 from optraj.problems.common import MAX_TOOL_SPEED
 from optraj.validation import as_choice, as_count, as_number
 
-__all__ = ["MAX_REACH", "MAX_SHOTS", "Shot", "ShotSet"]
+__all__ = [
+    "KINDS",
+    "MAX_REACH",
+    "MAX_SHOTS",
+    "Shot",
+    "ShotSequence",
+    "ShotSet",
+    "as_range",
+    "as_values",
+    "make_shot",
+]
 
 #: Largest |x|, |y| or |z| of a ball position accepted [m]: no arm we ship reaches further.
 MAX_REACH = 5.0
 #: Most shots one set may hold: a map beyond this is a job for many sets.
 MAX_SHOTS = 1_000_000
+#: The registry kinds (:data:`optraj.planners.registry.KINDS`) a shot may be of.
+KINDS = ("pool-shot", "paddle-strike")
 
 
 @dataclass(frozen=True)
 class Shot:
-    """One pool shot: where the ball is, which way and how fast the cue strikes it.
+    """One strike: where the ball is, which way and how fast the tool strikes it.
 
     Attributes:
         shot_id: Stable id made from the inputs (the same shot always has the same id).
         robot: The robot's name (:func:`optraj.robots.load`).
         ball: Ball centre in the robot's base frame [m].
-        heading: Shot direction from +x about +z [deg].
-        speed: Cue tip speed at the strike [m/s].
+        heading: Shot direction from +x about +z [deg]: the cue's direction (pool) or the
+            paddle normal at contact, the strike's contact angle (paddle).
+        speed: Tool speed at the strike [m/s]: the cue tip's (pool) or the paddle's along
+            its normal (paddle; 0 arrives at rest).
+        kind: The registry kind of the problem (:data:`KINDS`): ``"pool-shot"`` or
+            ``"paddle-strike"``.
+
+    Raises:
+        UnknownNameError: A kind not in :data:`KINDS`.
     """
 
     shot_id: str
@@ -49,10 +70,27 @@ class Shot:
     ball: tuple[float, float, float]
     heading: float
     speed: float
+    kind: str = "pool-shot"
 
-    def problem(self) -> PoolStrike:
-        """The problem to plan (loads the robot; raises what ``PoolStrike`` raises)."""
-        angle = np.radians(self.heading)
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise UnknownNameError("shot kind", self.kind, KINDS)
+
+    def problem(self) -> PoolStrike | PaddleStrike:
+        """The problem to plan (loads the robot; raises what the problem raises).
+
+        A :class:`optraj.problems.PoolStrike` for a pool shot; a
+        :class:`optraj.problems.PaddleStrike` (contact at its default time, 2 s) for a
+        paddle strike.
+        """
+        angle = float(np.radians(self.heading))
+        if self.kind == "paddle-strike":
+            return PaddleStrike(
+                robots.load(self.robot),
+                ball=np.array(self.ball),
+                contact_angle=angle,
+                speed=self.speed,
+            )
         return PoolStrike(
             robots.load(self.robot),
             ball=np.array(self.ball),
@@ -61,15 +99,31 @@ class Shot:
         )
 
 
-def make_shot(robot: str, ball: tuple[float, float, float], heading: float, speed: float) -> Shot:
-    """A :class:`Shot` with its id made from the inputs, rounded to 0.1 mm, 1e-3 deg, 0.1 mm/s."""
+def make_shot(
+    robot: str,
+    ball: tuple[float, float, float],
+    heading: float,
+    speed: float,
+    kind: str = "pool-shot",
+) -> Shot:
+    """A :class:`Shot` with its id made from the inputs, rounded to 0.1 mm, 1e-3 deg, 0.1 mm/s.
+
+    A pool shot's id is ``robot:x=..:y=..:z=..:h=..:v=..``; another kind's has the kind
+    after the robot (``paddle4:paddle-strike:x=..``).
+    """
     x, y, z = ball
-    shot_id = f"{robot}:x={x:.4f}:y={y:.4f}:z={z:.4f}:h={heading:.3f}:v={speed:.4f}"
-    return Shot(shot_id, robot, (float(x), float(y), float(z)), float(heading), float(speed))
+    prefix = robot if kind == "pool-shot" else f"{robot}:{kind}"
+    shot_id = f"{prefix}:x={x:.4f}:y={y:.4f}:z={z:.4f}:h={heading:.3f}:v={speed:.4f}"
+    return Shot(shot_id, robot, (float(x), float(y), float(z)), float(heading), float(speed), kind)
 
 
-def _range(value: object, name: str, unit: str, low: float, high: float) -> tuple[float, float]:
-    """A (first, last) pair within [low, high] with first <= last."""
+def as_range(value: object, name: str, unit: str, low: float, high: float) -> tuple[float, float]:
+    """``value`` as a (first, last) pair within [low, high] with first <= last.
+
+    Raises:
+        InvalidInputError: Not a pair of numbers, a number outside [low, high] [unit], or
+            first > last (the message names the value and the limit).
+    """
     if not isinstance(value, (tuple, list)) or len(value) != 2:
         raise InvalidInputError(
             f"{name} must be a (first, last) pair [{unit}], got {value!r}", name=name, value=value
@@ -84,10 +138,15 @@ def _range(value: object, name: str, unit: str, low: float, high: float) -> tupl
     return first, last
 
 
-def _values(
+def as_values(
     value: object, name: str, unit: str, low: float, high: float, *, open_low: bool = False
 ) -> tuple[float, ...]:
-    """A non-empty tuple of numbers within [low, high] (or (low, high])."""
+    """``value`` as a non-empty tuple of numbers within [low, high] (or (low, high]).
+
+    Raises:
+        InvalidInputError: Not a non-empty tuple or list, or a number outside the interval
+            [unit] (the message names the value and the limit).
+    """
     if not isinstance(value, (tuple, list)) or not value:
         raise InvalidInputError(
             f"{name} must be a non-empty tuple of numbers [{unit}], got {value!r}",
@@ -99,8 +158,35 @@ def _values(
     )
 
 
+class ShotSequence:
+    """A set of shots in a fixed order: a subclass gives ``__len__`` and ``__iter__``."""
+
+    def __len__(self) -> int:
+        """How many shots the set holds."""
+        raise NotImplementedError
+
+    def __iter__(self) -> Iterator[Shot]:
+        """The shots, in the set's order."""
+        raise NotImplementedError
+
+    def __getitem__(self, index: int) -> Shot:
+        """The shot at ``index`` in the set's order (negative counts from the end).
+
+        Raises:
+            IndexError: ``index`` is outside the set.
+        """
+        position = index + len(self) if index < 0 else index
+        if not 0 <= position < len(self):
+            raise IndexError(f"shot index {index} is outside a set of {len(self)} shots")
+        return next(itertools.islice(iter(self), position, None))
+
+    def shots(self) -> tuple[Shot, ...]:
+        """Every shot, in the set's order."""
+        return tuple(self)
+
+
 @dataclass(frozen=True)
-class ShotSet:
+class ShotSet(ShotSequence):
     """Pool shots over a rectangle of the table, for a few headings and speeds.
 
     On a grid (``samples=None``), the shots are every combination of ``grid[0]`` ball x
@@ -137,13 +223,13 @@ class ShotSet:
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
-        set_(self, "x", _range(self.x, "x", "m", -MAX_REACH, MAX_REACH))
-        set_(self, "y", _range(self.y, "y", "m", -MAX_REACH, MAX_REACH))
-        set_(self, "headings", _values(self.headings, "headings", "deg", -360.0, 360.0))
+        set_(self, "x", as_range(self.x, "x", "m", -MAX_REACH, MAX_REACH))
+        set_(self, "y", as_range(self.y, "y", "m", -MAX_REACH, MAX_REACH))
+        set_(self, "headings", as_values(self.headings, "headings", "deg", -360.0, 360.0))
         set_(
             self,
             "speeds",
-            _values(self.speeds, "speeds", "m/s", 0.0, MAX_TOOL_SPEED, open_low=True),
+            as_values(self.speeds, "speeds", "m/s", 0.0, MAX_TOOL_SPEED, open_low=True),
         )
         set_(self, "z", as_number(self.z, "z", "m", minimum=-MAX_REACH, maximum=MAX_REACH))
         set_(self, "robot", as_choice(self.robot, "robot", robots.known_robots()))
@@ -179,17 +265,6 @@ class ShotSet:
         for x, y, heading, speed in itertools.product(xs, ys, self.headings, self.speeds):
             yield make_shot(self.robot, (float(x), float(y), self.z), heading, speed)
 
-    def __getitem__(self, index: int) -> Shot:
-        """The shot at ``index`` in the set's order (negative counts from the end).
-
-        Raises:
-            IndexError: ``index`` is outside the set.
-        """
-        position = index + len(self) if index < 0 else index
-        if not 0 <= position < len(self):
-            raise IndexError(f"shot index {index} is outside a set of {len(self)} shots")
-        return next(itertools.islice(iter(self), position, None))
-
     def _random(self) -> Iterator[Shot]:
         rng = np.random.default_rng(self.seed)
         for _ in range(len(self)):
@@ -197,7 +272,3 @@ class ShotSet:
             heading = rng.uniform(min(self.headings), max(self.headings))
             speed = rng.uniform(min(self.speeds), max(self.speeds))
             yield make_shot(self.robot, (float(x), float(y), self.z), float(heading), float(speed))
-
-    def shots(self) -> tuple[Shot, ...]:
-        """Every shot, in the set's order."""
-        return tuple(self)

@@ -10,11 +10,24 @@ import os
 import signal
 import time
 
+import numpy as np
+
 from optraj import sweeps
 from optraj.planners import registry
 
 #: A small grid that plans in well under a second with ruckig: 8 shots, some refused.
 SMALL = sweeps.ShotSet(x=(0.7, 0.8), y=(0.0, 0.2), grid=(2, 2), headings=(0.0,), speeds=(0.3, 0.9))
+#: A few paddle4 strikes at different points, angles and speeds, all within its limits.
+PADDLE = sweeps.PaddleShotSet(
+    x=(0.6, 0.9), y=(-0.2, 0.2), z=(0.2, 0.4), headings=(-20.0, 20.0), speeds=(0.3, 0.8),
+    samples=3, seed=5,
+)  # fmt: skip
+
+
+def velocity_ratio(trajectory, limits, start, end, samples=2001):
+    """Largest |qd_i| / qd_max_i of ``trajectory`` sampled densely over [start, end] [s]."""
+    qd = trajectory.sample(np.linspace(start, end, samples)).qd
+    return float(np.max(np.abs(qd) / np.asarray(limits.velocity)))
 
 
 class Raising:
@@ -67,9 +80,13 @@ def register_misbehaving(monkeypatch):
         registry.register_planner("pool-shot", name, factory)
 
 
+#: The columns of wall times, which differ from run to run.
+WALL_TIMES = ("plan_time", "contact_search_time", "outcome_time")
+
+
 def outcome(rows):
-    """Rows without their wall times, which differ from run to run."""
-    return [{k: v for k, v in row.items() if k != "plan_time"} for row in rows]
+    """Rows without their wall times."""
+    return [{k: v for k, v in row.items() if k not in WALL_TIMES} for row in rows]
 
 
 class Dying:

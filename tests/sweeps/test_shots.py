@@ -4,6 +4,7 @@ import pytest
 from optraj import problems
 from optraj.errors import InvalidInputError, UnknownNameError
 from optraj.sweeps import Shot, ShotSet
+from optraj.sweeps.shots import make_shot
 
 
 def test_grid_order_ids_and_count():
@@ -74,3 +75,16 @@ def test_bad_input_names_value_and_limit(settings, words):
 def test_unknown_robot():
     with pytest.raises(UnknownNameError, match="robot"):
         ShotSet(robot="r2d2")
+
+
+def test_kind_defaults_to_pool_and_names_paddle_ids():
+    shot = ShotSet(grid=(1, 1))[0]
+    assert shot.kind == "pool-shot" and shot == Shot(*[getattr(shot, f) for f in FIELDS])
+    paddle = make_shot("paddle4", (0.8, 0.1, 0.3), 10.0, 0.5, "paddle-strike")
+    assert paddle.shot_id == "paddle4:paddle-strike:x=0.8000:y=0.1000:z=0.3000:h=10.000:v=0.5000"
+    assert isinstance(paddle.problem(), problems.PaddleStrike)
+    with pytest.raises(UnknownNameError, match="unknown shot kind 'pick-and-place'"):
+        Shot("a", "sawyer", (0.7, 0.0, -0.05), 0.0, 0.5, kind="pick-and-place")
+
+
+FIELDS = ("shot_id", "robot", "ball", "heading", "speed")
