@@ -24,7 +24,15 @@ import numpy as np
 from optraj.errors import InvalidInputError
 from optraj.problems.common import MAX_TOOL_SPEED
 from optraj.robots import PADDLE4_WORKSPACE
-from optraj.sweeps.shots import MAX_SHOTS, Shot, ShotSequence, as_range, as_values, make_shot
+from optraj.sweeps.shots import (
+    MAX_SHOTS,
+    Shot,
+    ShotSequence,
+    as_range,
+    as_values,
+    check_spread,
+    make_shot,
+)
 from optraj.validation import as_count
 
 __all__ = ["MAX_GRID", "PADDLE_KIND", "PADDLE_ROBOT", "PaddleShotSet"]
@@ -95,6 +103,8 @@ class PaddleShotSet(ShotSequence):
             )
         grid = tuple(as_count(count, "grid", 1, MAX_GRID) for count in self.grid)
         object.__setattr__(self, "grid", grid)
+        if self.samples is None:
+            check_spread(grid, {"x": self.x, "y": self.y, "z": self.z})
         total = len(self)
         if total > MAX_SHOTS:
             raise InvalidInputError(

@@ -73,14 +73,17 @@ def run(
     time_limit: float | None = None,
     chunk_size: int | None = None,
     max_shots: int | None = None,
+    outcome: bool = False,
     progress: bool = True,
 ) -> list[dict[str, object]]:
     """Plan every shot and return one row per shot (:data:`optraj.sweeps.COLUMNS`).
 
     Args:
-        shots: A :class:`optraj.sweeps.ShotSet`, or any iterable of its :class:`Shot`.
-        planner: A ``pool-shot`` planner's name in :mod:`optraj.planners.registry`.
-        options: The planner's own options (``registry.options("pool-shot", planner)``).
+        shots: A :class:`optraj.sweeps.ShotSet` or :class:`optraj.sweeps.PaddleShotSet`, or
+            any iterable of :class:`Shot` of one kind.
+        planner: The name in :mod:`optraj.planners.registry` of a planner of the shots' kind
+            (``"pool-shot"`` or ``"paddle-strike"``).
+        options: The planner's own options (``registry.options(kind, planner)``).
         workers: Local worker processes; all cores when None, 0 for serial in this process.
         scheduler: A Dask ``distributed.Client``, a Dask cluster object or a scheduler
             address (``"tcp://HOST:PORT"``): plan on that cluster instead of local
@@ -94,6 +97,8 @@ def run(
             chunks per worker, at most 16.
         max_shots: Plan at most this many new shots in this run (the rest are left for a
             later run with the same ``out``); all when None.
+        outcome: Track each planned shot in MuJoCo and record where the ball went
+            (:data:`optraj.sweeps.OUTCOME_COLUMNS`; about a second more per shot).
         progress: Draw a progress bar on stderr.
 
     Returns:
@@ -101,9 +106,9 @@ def run(
 
     Raises:
         InvalidInputError: Bad shots, workers, scheduler, time limit, chunk size, shot limit
-            or option, an ``out`` file with rows of another planner, or both ``workers``
-            and ``scheduler``.
-        UnknownNameError: A planner that does not plan pool shots.
+            or option, an ``out`` file with rows of another planner, shots of more than one
+            kind, or both ``workers`` and ``scheduler``.
+        UnknownNameError: A planner that does not plan the shots' kind.
         ClusterError: No Dask scheduler answers at ``scheduler``, or it has no worker.
         MissingDependencyError: ``scheduler`` given without Dask ``distributed`` installed.
     """
@@ -113,12 +118,9 @@ def run(
             f"give workers or scheduler, not both (got workers={workers!r})", name="workers"
         )
     count = _workers(workers)
-    seconds = (
-        None if time_limit is None else as_positive(time_limit, "time_limit", "s", MAX_DURATION)
-    )
     show = as_flag(progress, "progress")
     limit = len(found) if max_shots is None else as_count(max_shots, "max_shots")
-    job = ShotJob(make_planner("pool-shot", planner, **dict(options or {})), planner, seconds)
+    job = _job(found, planner, options, time_limit, outcome)
     rows = _done(out, planner)
     todo = [shot for shot in found if shot.shot_id not in rows][:limit]
     size = None if chunk_size is None else as_count(chunk_size, "chunk_size", 1)
@@ -139,6 +141,27 @@ def run(
             workers_used = min(count, math.ceil(len(todo) / size))
             run_processes(todo, job, on_row, workers=workers_used, chunk_size=size)
     return [rows[shot.shot_id] for shot in found if shot.shot_id in rows]
+
+
+def _job(
+    shots: list[Shot],
+    planner: str,
+    options: Mapping[str, object] | None,
+    time_limit: float | None,
+    outcome: bool,
+) -> ShotJob:
+    """The job of the sweep: the planner of the shots' one kind, the limit, the outcome."""
+    kinds = sorted({shot.kind for shot in shots})
+    if len(kinds) > 1:
+        raise InvalidInputError(
+            f"the shots of one sweep must be of one kind, got {', '.join(kinds)}", name="shots"
+        )
+    kind = kinds[0] if kinds else "pool-shot"
+    seconds = (
+        None if time_limit is None else as_positive(time_limit, "time_limit", "s", MAX_DURATION)
+    )
+    made = make_planner(kind, planner, **dict(options or {}))
+    return ShotJob(made, planner, seconds, as_flag(outcome, "outcome"))
 
 
 def _done(out: str | os.PathLike[str] | None, planner: str) -> dict[str, dict[str, object]]:

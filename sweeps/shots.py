@@ -35,6 +35,7 @@ __all__ = [
     "ShotSet",
     "as_range",
     "as_values",
+    "check_spread",
     "make_shot",
 ]
 
@@ -97,6 +98,21 @@ class Shot:
             direction=np.array((np.cos(angle), np.sin(angle), 0.0)),
             speed=self.speed,
         )
+
+
+def check_spread(grid: tuple[int, ...], ranges: dict[str, tuple[float, float]]) -> None:
+    """Refuse several grid positions along an axis whose range is one value.
+
+    Every shot of such a grid would be there more than once.
+    """
+    for count, (axis, (first, last)) in zip(grid, ranges.items(), strict=True):
+        if count > 1 and first == last:
+            raise InvalidInputError(
+                f"grid has {count} positions along {axis}, but {axis} is the single value "
+                f"{first:.6g} m: give a range or 1 position",
+                name="grid",
+                value=grid,
+            )
 
 
 def make_shot(
@@ -245,6 +261,8 @@ class ShotSet(ShotSequence):
             )
         grid = (as_count(self.grid[0], "grid", 1, 1000), as_count(self.grid[1], "grid", 1, 1000))
         object.__setattr__(self, "grid", grid)
+        if self.samples is None:
+            check_spread(grid, {"x": self.x, "y": self.y})
         total = len(self)
         if total > MAX_SHOTS:
             raise InvalidInputError(

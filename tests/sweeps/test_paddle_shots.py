@@ -85,7 +85,7 @@ def test_a_paddle_strike_past_its_fastest_speed_is_refused():
         ({"headings": (-400.0,)}, "headings must be >= -360 deg, got -400 deg"),
         ({"grid": (2, 2)}, "grid must be a triple"),
         ({"grid": (2, 0, 1)}, "grid must be an integer >= 1, got 0"),
-        ({"grid": (1000, 1000, 2)}, "at most 1000000 shots, got 2000000"),
+        ({"grid": (1000, 1000, 2), "z": (0.2, 0.4)}, "at most 1000000 shots, got 2000000"),
         ({"samples": 0}, "samples must be an integer >= 1, got 0"),
         ({"seed": -2}, "seed must be an integer >= 0, got -2"),
     ],

@@ -3,7 +3,7 @@ import pytest
 
 from optraj import problems
 from optraj.errors import InvalidInputError, UnknownNameError
-from optraj.sweeps import Shot, ShotSet
+from optraj.sweeps import PaddleShotSet, Shot, ShotSet
 from optraj.sweeps.shots import make_shot
 
 
@@ -88,3 +88,14 @@ def test_kind_defaults_to_pool_and_names_paddle_ids():
 
 
 FIELDS = ("shot_id", "robot", "ball", "heading", "speed")
+
+
+def test_a_grid_over_a_single_value_is_refused():
+    with pytest.raises(
+        InvalidInputError, match=r"grid has 3 positions along y, but y is the single"
+    ):
+        ShotSet(y=(0.1, 0.1), grid=(2, 3))
+    assert len(ShotSet(y=(0.1, 0.1), grid=(2, 1))) == 2
+    assert len(ShotSet(y=(0.1, 0.1), grid=(2, 3), samples=4)) == 4  # random: fine
+    with pytest.raises(InvalidInputError, match=r"along z, but z is the single value 0.3 m"):
+        PaddleShotSet(grid=(2, 1, 2))
