@@ -1,7 +1,8 @@
-"""``optraj map``: sweep a robot's pool shots over the table, or draw a sweep's heat maps.
+"""``optraj map``: sweep a robot's shots, or draw a sweep's heat maps.
 
 ``optraj map sawyer --speeds 0.5,1.0 --grid 20x20 --headings 0,45,90 --out map.parquet``
-plans every shot of the :class:`optraj.sweeps.ShotSet` with :func:`optraj.sweeps.run`
+plans every shot of the :class:`optraj.sweeps.ShotSet` (for paddle4, the strikes of a
+:class:`optraj.sweeps.PaddleShotSet`) with :func:`optraj.sweeps.run`
 (resuming a table that is already there) and prints the count of each status;
 ``optraj map --plot map.parquet`` draws the fastest reachable speed and the motion time over
 the table to PNG files. The sweep packages are imported when the command runs.
@@ -24,6 +25,8 @@ IMAGE_SUFFIXES = (".png", ".pdf", ".svg")
 #: The planner of a sweep when ``--planner`` is not given: fast, and it says the fastest
 #: speed a refused shot could have had.
 DEFAULT_PLANNER = "ruckig"
+#: The robot whose shots are paddle strikes (:class:`optraj.sweeps.PaddleShotSet`).
+PADDLE_ROBOT = "paddle4"
 
 
 def parse_numbers(text: str, option: str, unit: str) -> tuple[float, ...]:
@@ -56,45 +59,56 @@ def _pair(text: str | None, option: str) -> tuple[float, float] | None:
     return numbers[0], numbers[1]
 
 
-def parse_grid(text: str) -> tuple[int, int]:
-    """``"20x20"`` as (positions along x, along y).
+def parse_grid(text: str, axes: int = 2) -> tuple[int, ...]:
+    """``"20x20"`` as (positions along x, along y); with ``axes=3``, ``"8x8x2"`` (and z).
 
     Raises:
-        InvalidInputError: Not two whole numbers joined by ``x`` (names the value).
+        InvalidInputError: Not ``axes`` whole numbers joined by ``x`` (names the value).
     """
     words = text.lower().split("x")
-    if len(words) != 2 or not all(word.strip().isdigit() for word in words):
+    if len(words) != axes or not all(word.strip().isdigit() for word in words):
+        form, example = ("NXxNYxNZ", "8x8x2") if axes == 3 else ("NXxNY", "20x20")
         raise InvalidInputError(
-            f"--grid takes NXxNY, ball positions along x and y, e.g. 20x20; got {text!r}",
+            f"--grid takes {form}, ball positions along {'x, y and z' if axes == 3 else 'x and y'}"
+            f", e.g. {example}; got {text!r}",
             name="--grid",
             value=text,
         )
-    return int(words[0]), int(words[1])
+    return tuple(int(word) for word in words)
 
 
 def _shot_set(args: argparse.Namespace) -> Any:
-    """The :class:`optraj.sweeps.ShotSet` the options describe."""
+    """The shot set the options describe: paddle4 strikes, or another robot's pool shots."""
     from optraj import sweeps
 
     if args.samples is not None and args.grid is not None:
         raise InvalidInputError(
             f"give --grid ({args.grid}) or --samples ({args.samples}), not both", name="--grid"
         )
+    paddle = args.robot.lower() == PADDLE_ROBOT
+    if args.z is not None and not paddle:
+        raise InvalidInputError(
+            f"--z is for {PADDLE_ROBOT}'s ball points; a pool ball lies on the table "
+            f"(got --z {args.z} for {args.robot})",
+            name="--z",
+            value=args.z,
+        )
     given: dict[str, Any] = {
-        "robot": args.robot.lower(),
         "speeds": parse_numbers(args.speeds, "--speeds", "m/s"),
         "headings": parse_numbers(args.headings, "--headings", "deg"),
         "seed": args.seed,
     }
-    for option in ("x", "y"):
+    for option in ("x", "y", "z"):
         pair = _pair(getattr(args, option), f"--{option}")
         if pair is not None:
             given[option] = pair
     if args.samples is not None:
         given["samples"] = args.samples
     elif args.grid is not None:
-        given["grid"] = parse_grid(args.grid)
-    return sweeps.ShotSet(**given)
+        given["grid"] = parse_grid(args.grid, 3 if paddle else 2)
+    if paddle:
+        return sweeps.PaddleShotSet(**given)
+    return sweeps.ShotSet(robot=args.robot.lower(), **given)
 
 
 def _sweep(args: argparse.Namespace, out: TextIO) -> int:
@@ -114,6 +128,7 @@ def _sweep(args: argparse.Namespace, out: TextIO) -> int:
         out=args.out,
         time_limit=args.time_limit,
         max_shots=args.max_shots,
+        outcome=args.outcome,
         progress=sys.stderr.isatty(),
     )
     counts = {status: 0 for status in sweeps.STATUSES}
@@ -122,7 +137,7 @@ def _sweep(args: argparse.Namespace, out: TextIO) -> int:
     spread = shots.samples is not None
     layout = f"{shots.samples} random" if spread else "x".join(map(str, shots.grid))
     out.write(
-        f"map of {shots.robot} with {planner}: {len(shots)} shots ({layout} positions, "
+        f"map of {args.robot.lower()} with {planner}: {len(shots)} shots ({layout} positions, "
         f"headings {_listed(shots.headings, spread)} deg, speeds "
         f"{_listed(shots.speeds, spread)} m/s)\n"
         f"  {', '.join(f'{status} {count}' for status, count in counts.items())}\n"
@@ -199,10 +214,12 @@ _TEXT_OPTIONS: Mapping[str, tuple[str | None, str, str]] = {
     "--headings": ("0", "DEG,...", "shot directions from +x about +z [deg], comma-separated "
                    "(default 0; a list that starts with a minus goes after '=': "
                    "--headings=-45,45)"),
-    "--grid": (None, "NXxNY", "ball positions along x and y (default 3x3)"),
+    "--grid": (None, "NXxNY", "ball positions along x and y (default 3x3); for paddle4 "
+               "NXxNYxNZ, along z too (default 3x3x1)"),
     "--x": (None, "FIRST,LAST", "first and last ball x [m], base frame (default 0.65,0.85)"),
     "--y": (None, "FIRST,LAST", "first and last ball y [m], base frame (default -0.05,0.3; "
             "a negative FIRST goes after '=': --y=-0.1,0.2)"),
+    "--z": (None, "FIRST,LAST", "paddle4 only: first and last ball z [m] (default 0.3,0.3)"),
     "--planner": (None, "NAME", f"pool-shot planner (default {DEFAULT_PLANNER})"),
     "--out": ("map.parquet", "PATH", "the table: .parquet, or JSON lines for any other name "
               "(default map.parquet); a table already there is resumed"),
@@ -217,9 +234,10 @@ def add_map_parser(sub: Any) -> None:
     """Add the ``map`` command to the subparsers ``sub`` of the ``optraj`` parser."""
     parser = sub.add_parser(
         "map",
-        help="sweep pool shots over the table (Parquet table), or draw its heat maps",
+        help="sweep pool shots or paddle strikes (Parquet table), or draw its heat maps",
         description=(
-            "Plan every pool shot of a grid (or a seeded random set) of ball positions [m], "
+            "Plan every pool shot (paddle4: every paddle strike) of a grid (or a seeded random "
+            "set) of ball positions [m], "
             "headings [deg] and cue speeds [m/s], appending one row per shot to --out (a "
             "table already there is resumed), and print the count of each status. With "
             "--plot TABLE, draw the fastest reachable speed [m/s] and the motion time [s] over "
@@ -235,6 +253,11 @@ def add_map_parser(sub: Any) -> None:
         "--workers", type=int, metavar="N", help="processes, 0: serial (default: cores)"
     )
     parser.add_argument("--time-limit", type=float, metavar="S", help="per shot [s]")
+    parser.add_argument(
+        "--outcome",
+        action="store_true",
+        help="track each planned shot in MuJoCo and record where the ball went (~1 s a shot)",
+    )
     parser.add_argument("--max-shots", type=int, metavar="N", help="plan at most N new shots")
     parser.add_argument(
         "--speed", type=float, metavar="M/S", help="motion-time map speed [m/s] (default lowest)"

@@ -43,6 +43,30 @@ def test_a_sweep_writes_the_table_and_counts_each_status(tmp_path):
     assert f"table: {table} (8 rows)" in text
 
 
+def test_paddle4_strikes_are_swept_and_judged_by_the_ball(tmp_path):
+    table = tmp_path / "paddle.jsonl"
+    argv = ["map", "paddle4", "--grid", "2x1x1", "--x", "0.6,0.9", "--y", "0,0", "--speeds",
+            "1.0", "--planner", "ruckig", "--workers", "0", "--outcome"]  # fmt: skip
+    argv += ["--out", str(table)]
+    status, text = _run(argv)
+    assert status == 0, text
+    rows = list(sweeps.read_rows(table).values())
+    assert [row["kind"] for row in rows] == ["paddle-strike"] * 2
+    assert all(row["status"] == "planned" and row["check_ok"] for row in rows)
+    assert all(row["hit"] and row["on_target"] for row in rows)  # the ball left on its line
+    assert all(row["max_speed"] > 1.0 for row in rows)
+
+
+def test_z_and_a_three_axis_grid_are_for_paddle4_only(capsys, tmp_path):
+    out = str(tmp_path / "m.jsonl")
+    assert main(["map", "sawyer", "--z", "0.1,0.2", "--out", out]) == 2
+    assert "--z is for paddle4's ball points" in _error_line(capsys)
+    assert main(["map", "sawyer", "--grid", "2x2x2", "--out", out]) == 2
+    assert "--grid takes NXxNY" in _error_line(capsys)
+    assert main(["map", "paddle4", "--grid", "2x2", "--out", out]) == 2
+    assert "--grid takes NXxNYxNZ" in _error_line(capsys)
+
+
 def test_a_stopped_sweep_says_what_is_left_and_resumes(tmp_path):
     table = tmp_path / "map.parquet"
     status, text = _run([*SWEEP, "--out", str(table), "--max-shots", "3"])
@@ -113,19 +137,20 @@ def test_every_sweep_option_reaches_sweeps_run(monkeypatch, tmp_path):
     monkeypatch.setattr(sweeps, "run", run)
     argv = ["map", "sawyer", "--samples", "5", "--seed", "3", "--headings=-10,10",
             "--scheduler", "tcp://10.0.0.1:8786", "--time-limit", "2.5", "--max-shots", "4",
-            "--workers", "3", "--out", str(tmp_path / "m.jsonl")]  # fmt: skip
+            "--workers", "3", "--outcome", "--out", str(tmp_path / "m.jsonl")]  # fmt: skip
     status, text = _run(argv)
     assert status == 0 and "5 shots left" in text
     assert "5 shots (5 random positions, headings -10 to 10 deg, speeds 0.5 m/s)" in text
     assert seen["shots"] == sweeps.ShotSet(samples=5, seed=3, headings=(-10.0, 10.0))
     assert seen["planner"] == "ruckig" and seen["scheduler"] == "tcp://10.0.0.1:8786"
     assert (seen["time_limit"], seen["max_shots"], seen["workers"]) == (2.5, 4, 3)
-    assert seen["out"] == str(tmp_path / "m.jsonl")
+    assert seen["out"] == str(tmp_path / "m.jsonl") and seen["outcome"] is True
 
 
 def test_parsers():
     assert parse_numbers("0.5, 1", "--speeds", "m/s") == (0.5, 1.0)
     assert parse_grid("20X3") == (20, 3)
+    assert parse_grid("4x3x2", 3) == (4, 3, 2)
     assert parse_numbers("-45,0", "--headings", "deg") == (-45.0, 0.0)
 
 
