@@ -27,12 +27,15 @@ The pieces live in their own modules and are re-exported here:
 
 from __future__ import annotations
 
+import dataclasses
+import threading
+import weakref
 from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from optraj.errors import InvalidInputError
+from optraj.errors import InfeasibleError, InvalidInputError
 from optraj.planners.strike.contact_choice import ContactChoice, as_margin
 from optraj.planners.strike.paddle_contact import paddle_choice, stopping_speeds
 from optraj.planners.strike.pool_contact import BRANCH_SPREAD, HEADROOM, contact_near, pool_choices
@@ -57,6 +60,15 @@ FloatArray = NDArray[np.float64]
 
 #: Most contact configurations one search may collect or evaluate (each is an IK solve).
 MAX_CANDIDATES = 1000
+
+_Answer = ContactChoice | InfeasibleError
+# choose_contact's answers (a choice, or the InfeasibleError it raised) per problem object and
+# arguments: a sweep's row and the planner it calls ask the same question of one problem.
+# Problems are frozen and hashed by identity, so an entry goes when its problem does.
+_MEMO: weakref.WeakKeyDictionary[object, dict[tuple[object, ...], _Answer]] = (
+    weakref.WeakKeyDictionary()
+)
+_MEMO_LOCK = threading.Lock()
 
 
 def choose_contact(
@@ -90,6 +102,9 @@ def choose_contact(
         margin: Fraction of the velocity limits kept in reserve, in [0, 1): the strike is
             accepted when its ratio is at most 1 - margin.
 
+    The answer is remembered per problem object and arguments: asking again returns a copy
+    at once, or raises the same refusal.
+
     Returns:
         The chosen configuration, its joint velocity at contact and its ratio.
 
@@ -106,7 +121,29 @@ def choose_contact(
         InvalidInputError: Another problem type, or bad ``candidates``, ``seed`` or ``margin``.
         SolverError: HiGHS fails on an LP (not expected).
     """
-    return contact_choices(problem, 1, candidates=candidates, seed=seed, margin=margin)[0]
+    key = (
+        as_count(candidates, "candidates", 1, MAX_CANDIDATES),
+        as_count(seed, "seed", 0, maximum=None),
+        as_margin(margin),
+    )
+    with _MEMO_LOCK:
+        known: _Answer | None = _MEMO.get(problem, {}).get(key)
+    if known is None:
+        try:
+            known = contact_choices(problem, 1, candidates=candidates, seed=seed, margin=margin)[0]
+        except InfeasibleError as exc:
+            known = exc
+        with _MEMO_LOCK:
+            _MEMO.setdefault(problem, {})[key] = known
+    if isinstance(known, InfeasibleError):
+        raise known
+    return dataclasses.replace(
+        known,
+        q=known.q.copy(),
+        qd=known.qd.copy(),
+        q_entry=None if known.q_entry is None else known.q_entry.copy(),
+        q_exit=None if known.q_exit is None else known.q_exit.copy(),
+    )
 
 
 def contact_choices(

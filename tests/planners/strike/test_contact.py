@@ -14,13 +14,14 @@ from conftest import get_robot, race
 from strike_support import pool_shots
 
 from optraj import problems
-from optraj.errors import InvalidInputError
+from optraj.errors import InfeasibleError, InvalidInputError
 from optraj.planners.strike.contact import ContactChoice, choose_contact, contact_choices
 
 
 def test_pool_choice_is_reproducible_for_a_seed():
-    problem = next(pool_shots(1, speed=1.0, seed=21))
-    first, second = choose_contact(problem, seed=4), choose_contact(problem, seed=4)
+    problem, again = (next(pool_shots(1, speed=1.0, seed=21)) for _ in range(2))
+    assert problem is not again  # two searches, not one remembered answer
+    first, second = choose_contact(problem, seed=4), choose_contact(again, seed=4)
     np.testing.assert_array_equal(first.q, second.q)
     np.testing.assert_array_equal(first.qd, second.qd)
     assert (first.ratio, first.binding_joint, first.candidates) == (
@@ -101,3 +102,23 @@ def test_excluded_branches_are_left_out():
     ):
         with pytest.raises(InvalidInputError, match=match):
             contact_choices(problem, 3, exclude=bad)
+
+
+def test_an_answer_is_remembered_per_problem_and_given_as_a_copy():
+    problem = next(pool_shots(1, speed=1.0, seed=22))
+    first = choose_contact(problem)
+    first.q[:] = 0.0  # the caller's copy: the remembered answer stays as it was
+    second = choose_contact(problem)
+    fresh = choose_contact(next(pool_shots(1, speed=1.0, seed=22)))
+    np.testing.assert_array_equal(second.q, fresh.q)
+    assert second.ratio == fresh.ratio and second.candidates == fresh.candidates
+    assert choose_contact(problem, seed=5).candidates >= 1  # other arguments: another search
+
+
+def test_a_refusal_is_remembered_and_raised_again():
+    problem = next(pool_shots(1, speed=5.0, seed=23))  # beyond Sawyer's velocity limits
+    with pytest.raises(InfeasibleError) as first:
+        choose_contact(problem)
+    with pytest.raises(InfeasibleError) as again:
+        choose_contact(problem)
+    assert again.value is first.value and first.value.max_speed < 5.0
