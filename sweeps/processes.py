@@ -8,7 +8,8 @@ where that cannot reach (inside a C library) is stopped from outside after :data
 more seconds by killing its worker: the shot becomes a ``timed out`` row, and a new pool
 plans the shots left (the other workers' shots in progress start again). A worker that
 dies on its own costs its shot one attempt; after :data:`ATTEMPTS` the shot is a
-``failed`` row.
+``failed`` row. Workers run their BLAS and OpenMP libraries on one thread each
+(:data:`THREAD_VARIABLES`), as Dask's workers do.
 """
 
 from __future__ import annotations
@@ -18,8 +19,9 @@ import os
 import queue
 import signal
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -30,6 +32,7 @@ __all__ = [
     "ATTEMPTS",
     "GRACE",
     "MAX_CHUNK",
+    "THREAD_VARIABLES",
     "WorkerStartError",
     "chunks",
     "default_chunk_size",
@@ -67,6 +70,27 @@ def _plan_chunk(chunk: list[Shot]) -> None:
 def chunks(shots: Sequence[Shot], size: int) -> list[list[Shot]]:
     """``shots`` cut in order into lists of ``size`` (the last may be shorter)."""
     return [list(shots[i : i + size]) for i in range(0, len(shots), size)]
+
+
+#: The environment variables that size the thread pools of BLAS and OpenMP libraries.
+THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+@contextmanager
+def _threads_per_worker() -> Iterator[None]:
+    """Spawn workers whose BLAS and OpenMP libraries run one thread each, as Dask's do.
+
+    The solves of one shot are small: more threads per worker only contend for the cores
+    the other workers use. A variable the user has set is left as it is.
+    """
+    unset = [name for name in THREAD_VARIABLES if name not in os.environ]
+    for name in unset:
+        os.environ[name] = "1"
+    try:
+        yield
+    finally:
+        for name in unset:
+            os.environ.pop(name, None)
 
 
 def default_chunk_size(shots: int, workers: int) -> int:
@@ -113,7 +137,7 @@ def run_processes(
     """
     sweep = _Sweep({shot.shot_id: shot for shot in shots}, job, on_row)
     context = multiprocessing.get_context("spawn")
-    with context.Manager() as manager:
+    with _threads_per_worker(), context.Manager() as manager:
         while sweep.pending:
             # A manager's queue sends each message at once: a shot's start is known even
             # when its worker dies right after.

@@ -1,4 +1,4 @@
-"""Planners for the Dask sweep tests, importable by the cluster's worker processes."""
+"""Planners for the Dask and process sweep tests, importable by their worker processes."""
 
 from __future__ import annotations
 
@@ -41,3 +41,11 @@ def register(monkeypatch_free_registry=registry):
     """Register the planners above for pool shots (into the registry the test set up)."""
     monkeypatch_free_registry.register_planner("pool-shot", "test-spin", Spinning)
     monkeypatch_free_registry.register_planner("pool-shot", "test-count", CountingLoads)
+
+
+class ThreadsReporting:
+    """Raises with the BLAS thread settings of the process it plans in."""
+
+    def plan(self, problem):
+        names = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+        raise RuntimeError(",".join(str(os.environ.get(name)) for name in names))

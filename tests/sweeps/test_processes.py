@@ -64,3 +64,18 @@ def test_a_planner_that_does_not_load_in_the_workers():
 
 def test_chunks_keep_the_order():
     assert chunks(list(range(5)), 2) == [[0, 1], [2, 3], [4]]
+
+
+def test_workers_run_one_blas_thread_unless_the_user_says_otherwise(monkeypatch):
+    import os
+
+    import cluster_support
+
+    for name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        monkeypatch.delenv(name, raising=False)
+    rows = _run(cluster_support.ThreadsReporting(), "test-threads", SHOTS[:1], workers=1)
+    assert rows[0]["error_message"] == "1,1,1"
+    assert "OMP_NUM_THREADS" not in os.environ  # the parent's environment is put back
+    monkeypatch.setenv("OMP_NUM_THREADS", "3")
+    rows = _run(cluster_support.ThreadsReporting(), "test-threads", SHOTS[:1], workers=1)
+    assert rows[0]["error_message"] == "3,1,1"
