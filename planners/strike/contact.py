@@ -27,6 +27,7 @@ The pieces live in their own modules and are re-exported here:
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import threading
 import weakref
@@ -132,11 +133,14 @@ def choose_contact(
         try:
             known = contact_choices(problem, 1, candidates=candidates, seed=seed, margin=margin)[0]
         except InfeasibleError as exc:
-            known = exc
+            known = _bare(exc)
+            with _MEMO_LOCK:
+                _MEMO.setdefault(problem, {})[key] = known
+            raise
         with _MEMO_LOCK:
             _MEMO.setdefault(problem, {})[key] = known
     if isinstance(known, InfeasibleError):
-        raise known
+        raise _bare(known)
     return dataclasses.replace(
         known,
         q=known.q.copy(),
@@ -144,6 +148,15 @@ def choose_contact(
         q_entry=None if known.q_entry is None else known.q_entry.copy(),
         q_exit=None if known.q_exit is None else known.q_exit.copy(),
     )
+
+
+def _bare(error: InfeasibleError) -> InfeasibleError:
+    """A copy of ``error`` without traceback or context.
+
+    A remembered refusal must not keep the frames (and the problem in them) alive, or its
+    problem would never be forgotten.
+    """
+    return copy.copy(error).with_traceback(None)
 
 
 def contact_choices(

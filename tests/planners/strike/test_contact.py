@@ -121,4 +121,20 @@ def test_a_refusal_is_remembered_and_raised_again():
         choose_contact(problem)
     with pytest.raises(InfeasibleError) as again:
         choose_contact(problem)
-    assert again.value is first.value and first.value.max_speed < 5.0
+    assert str(again.value) == str(first.value) and first.value.max_speed < 5.0
+    assert again.value.joint == first.value.joint and again.value.__traceback__ is not None
+
+
+def test_a_remembered_answer_goes_with_its_problem():
+    import gc
+    import weakref
+
+    refused = next(pool_shots(1, speed=5.0, seed=23))
+    planned = next(pool_shots(1, speed=1.0, seed=24))
+    with pytest.raises(InfeasibleError):
+        choose_contact(refused)
+    choose_contact(planned)
+    gone = [weakref.ref(refused), weakref.ref(planned)]
+    del refused, planned
+    gc.collect()
+    assert [ref() for ref in gone] == [None, None]  # nothing kept them alive
