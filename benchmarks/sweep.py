@@ -17,7 +17,9 @@ It then draws the map of the README, ``sweep_map.png`` beside the table: the fas
 speed the velocity limits allow over the table for three headings (a grid sweep in local
 processes, planner ``ruckig`` choosing its contact).
 
-Usage: ``python benchmarks/sweep.py [--quick] [--shots N] [--planner NAME] [--out PATH]``
+By default it measures ruckig on 384 shots and optimal control on 128.
+
+Usage: ``python benchmarks/sweep.py [--quick] [--planner NAME] [--shots N] [--out PATH]``
 """
 
 from __future__ import annotations
@@ -30,13 +32,13 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, NamedTuple
 
-from benchmarking import shot_arguments, write_report
+from benchmarking import write_report
 from optraj import sweeps
 
 RESULTS = Path(__file__).resolve().parent / "results"
-#: Random shots of the full run; the planner and its cost per shot.
-SHOTS = 128
-PLANNER = "optimal-control"
+#: (planner, random shots) of the full run: a fast planner on a long sweep, and optimal
+#: control, whose workers each compile their solvers, on a shorter one.
+CASES = (("ruckig", 384), ("optimal-control", 128))
 #: Shots and planner of ``--quick`` (for CI).
 QUICK_SHOTS = 8
 QUICK_PLANNER = "ruckig"
@@ -142,34 +144,38 @@ def _same(rows: list[dict[str, object]], reference: list[dict[str, object]], lab
         raise RuntimeError(f"{label} gave another table than the serial run")
 
 
-def report(found: dict[str, Any], shots: int, planner: str, command: str) -> list[str]:
-    """The Markdown report of :func:`measure`'s figures."""
-    serial = found["serial"]
-    runs: list[Run] = found["runs"]
-    by = {(r.executor, r.workers): r for r in runs}
+def report(cases: list[tuple[str, int, dict[str, Any]]], command: str) -> list[str]:
+    """The Markdown report of :func:`measure`'s figures, one block of rows per planner."""
     lines = [
         "# Sweeps: shots per second against workers",
         "",
-        f"Command: `{command}` ({shots} random Sawyer pool shots, planner `{planner}`, "
-        f"{_cores()} cores; every run gave the serial table, times to 1 ns). Parallel "
-        "efficiency is an executor's wall time with one worker / (workers x its wall time); "
-        "start is the wall time of a sweep of one shot per worker, less a shot (spawn and "
-        "imports for local processes; a warm Dask cluster has none). Each worker also "
-        "compiles its own solvers over its first shots.",
+        f"Command: `{command}` (random Sawyer pool shots, {_cores()} cores; every run gave "
+        "the serial table, times to 1 ns). Parallel efficiency is an executor's wall time "
+        "with one worker / (workers x its wall time); start is the wall time of a sweep of "
+        "one shot per worker, less a shot (spawn and imports for local processes; a warm "
+        "Dask cluster has none). Each optimal-control worker also compiles its own solvers "
+        "over its first shots.",
         "",
         "## Throughput",
         "",
-        "| executor | workers | wall [s] | shots/s | speed-up | parallel efficiency | start [s] |",
-        "|---|---|---|---|---|---|---|",
-        f"| serial (this process) | 0 | {serial:.2f} | {shots / serial:.2f} | - | - | - |",
+        "| planner | shots | executor | workers | wall [s] | shots/s | speed-up "
+        "| parallel efficiency | start [s] |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
-    for r in runs:
-        one = by[r.executor, 1].wall
+    for planner, shots, found in cases:
+        by = {(r.executor, r.workers): r for r in found["runs"]}
+        serial = found["serial"]
         lines.append(
-            f"| {r.executor} | {r.workers} | {r.wall:.2f} | {shots / r.wall:.2f} | "
-            f"{one / r.wall:.2f} | {one / (r.workers * r.wall):.2f} | {r.start:.2f} |"
+            f"| {planner} | {shots} | serial (this process) | 0 | {serial:.2f} | "
+            f"{shots / serial:.2f} | - | - | - |"
         )
-    per_shot = by["local processes", 1].wall / shots
+        for r in found["runs"]:
+            one = by[r.executor, 1].wall
+            lines.append(
+                f"| {planner} | {shots} | {r.executor} | {r.workers} | {r.wall:.2f} | "
+                f"{shots / r.wall:.2f} | {one / r.wall:.2f} | "
+                f"{one / (r.workers * r.wall):.2f} | {r.start:.2f} |"
+            )
     lines += [
         "",
         "## Dask against local processes",
@@ -177,32 +183,45 @@ def report(found: dict[str, Any], shots: int, planner: str, command: str) -> lis
         "(Dask wall - processes wall) / shots, and as a share of one shot's wall time with "
         "one local worker.",
         "",
-        "| workers | overhead per shot [ms] | share of a shot |",
-        "|---|---|---|",
+        "| planner | workers | overhead per shot [ms] | share of a shot |",
+        "|---|---|---|---|",
     ]
-    for workers in sorted({r.workers for r in runs}):
-        extra = (by["Dask", workers].wall - by["local processes", workers].wall) / shots
-        lines.append(f"| {workers} | {extra * 1e3:+.1f} | {extra / per_shot:+.1%} |")
-    widest = max(r.workers for r in runs)
-    best = max(
-        by[name, 1].wall / (widest * by[name, widest].wall) for name in ("local processes", "Dask")
-    )
+    estimates = []
+    for planner, shots, found in cases:
+        by = {(r.executor, r.workers): r for r in found["runs"]}
+        per_shot = by["local processes", 1].wall / shots
+        for workers in sorted({r.workers for r in found["runs"]}):
+            extra = (by["Dask", workers].wall - by["local processes", workers].wall) / shots
+            lines.append(
+                f"| {planner} | {workers} | {extra * 1e3:+.1f} | {extra / per_shot:+.1%} |"
+            )
+        widest = max(r.workers for r in found["runs"])
+        best = max(
+            by[name, 1].wall / (widest * by[name, widest].wall)
+            for name in ("local processes", "Dask")
+        )
+        estimates.append((planner, per_shot, best))
     lines += [
         "",
         "## A million shots",
         "",
-        f"From {per_shot:.3f} s a shot on one worker and the parallel efficiency at "
-        f"{widest} workers, {best:.2f}, on machines of {MACHINE_CORES} cores with one "
-        "worker a core (a conservative figure: the start and the solvers' compilation are "
-        "paid once per worker, not per shot):",
+        "From a planner's wall time a shot on one worker and its best parallel efficiency at "
+        f"the most workers measured, on machines of {MACHINE_CORES} cores with one worker a "
+        "core (conservative: a worker's start and solver compilation are paid once, not per "
+        "shot); hours:",
         "",
-        "| machines | cores | hours |",
-        "|---|---|---|",
+        "| machines | cores | "
+        + " | ".join(
+            f"{planner} ({per_shot:.3f} s a shot, efficiency {best:.2f})"
+            for planner, per_shot, best in estimates
+        )
+        + " |",
+        "|---|---|" + "---|" * len(estimates),
     ]
     for machines in MACHINES:
         cores = machines * MACHINE_CORES
-        hours = MILLION * per_shot / (cores * best) / 3600.0
-        lines.append(f"| {machines} | {cores} | {hours:.2f} |")
+        hours = [MILLION * per_shot / (cores * best) / 3600.0 for _, per_shot, best in estimates]
+        lines.append(f"| {machines} | {cores} | " + " | ".join(f"{h:.2f}" for h in hours) + " |")
     return lines
 
 
@@ -234,14 +253,20 @@ def draw_map(quick: bool, image: Path) -> dict[str, int]:
 
 
 def _arguments(argv: list[str] | None) -> argparse.Namespace:
-    def extra(parser: argparse.ArgumentParser) -> None:
-        parser.add_argument("--planner", default=None, help=f"pool-shot planner ({PLANNER})")
-
-    args = shot_arguments(
-        argv, __doc__, default=SHOTS, quick=QUICK_SHOTS, out=RESULTS / "sweep.md", extra=extra
-    )
-    if args.planner is None:
-        args.planner = QUICK_PLANNER if args.quick else PLANNER
+    parser = argparse.ArgumentParser(description=(__doc__ or "").split("\n\n")[0])
+    parser.add_argument("--quick", action="store_true", help=f"{QUICK_SHOTS} shots (for CI)")
+    parser.add_argument("--planner", help="one pool-shot planner instead of the default cases")
+    parser.add_argument("--shots", type=int, help="random shots of each planner")
+    parser.add_argument("--out", type=Path, default=RESULTS / "sweep.md", help="Markdown file")
+    args = parser.parse_args(argv)
+    if args.shots is not None and args.shots < 1:
+        parser.error(f"--shots must be >= 1, got {args.shots}")
+    if args.quick:
+        args.cases = [(QUICK_PLANNER, QUICK_SHOTS)]
+    elif args.planner is not None:
+        args.cases = [(args.planner, args.shots or dict(CASES).get(args.planner, 128))]
+    else:
+        args.cases = [(name, args.shots or count) for name, count in CASES]
     return args
 
 
@@ -249,18 +274,20 @@ def _command(args: argparse.Namespace) -> str:
     if args.quick:
         return "python benchmarks/sweep.py --quick"
     words = ["python benchmarks/sweep.py"]
-    if args.shots != SHOTS:
-        words.append(f"--shots {args.shots}")
-    if args.planner != PLANNER:
+    if args.planner is not None:
         words.append(f"--planner {args.planner}")
+    if args.shots is not None:
+        words.append(f"--shots {args.shots}")
     return " ".join(words)
 
 
 def main(argv: list[str] | None = None) -> int:
     args = _arguments(argv)
     counts = sorted({1, 2, _cores()})
-    found = measure(shot_set(args.shots), args.planner, counts)
-    lines = report(found, args.shots, args.planner, _command(args))
+    cases = []
+    for planner, shots in args.cases:
+        cases.append((planner, shots, measure(shot_set(shots), planner, counts)))
+    lines = report(cases, _command(args))
     image = args.out.parent / "sweep_map.png"
     made = draw_map(args.quick, image)
     shown = ", ".join(f"{count} {status}" for status, count in sorted(made.items()))

@@ -254,14 +254,15 @@ def test_sweep_quick_run_writes_its_tables(tmp_path, monkeypatch):
     rows = [
         [c.strip() for c in line.strip("|").split("|")]
         for line in throughput.splitlines()
-        if line.startswith("| ") and not line.startswith("| executor")
+        if line.startswith("| ") and not line.startswith("| planner")
     ]
-    executors = [(row[0], row[1]) for row in rows]
+    assert {(row[0], row[1]) for row in rows} == {("ruckig", "8")}
+    executors = [(row[2], row[3]) for row in rows]
     assert executors[0] == ("serial (this process)", "0")
     assert {("local processes", "2"), ("Dask", "2")} <= set(executors)
-    assert all(float(row[3]) > 0.0 for row in rows)  # shots/s
-    assert all(float(row[5]) > 0.0 and float(row[6]) >= 0.0 for row in rows[1:])
-    assert [float(row[4]) for row in rows if row[1] == "1"] == [1.0, 1.0]  # speed-up of one
+    assert all(float(row[5]) > 0.0 for row in rows)  # shots/s
+    assert all(float(row[7]) > 0.0 and float(row[8]) >= 0.0 for row in rows[1:])
+    assert [float(row[6]) for row in rows if row[3] == "1"] == [1.0, 1.0]  # speed-up of one
     million = text.split("## A million shots")[1]
     hours = [float(line.split("|")[3]) for line in million.splitlines() if line.startswith("| 1")]
     assert len(hours) == 3 and hours[0] > hours[1] > hours[2]  # 1, 10, 100 machines
