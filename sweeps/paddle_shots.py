@@ -21,16 +21,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from optraj.errors import InvalidInputError
 from optraj.problems.common import MAX_TOOL_SPEED
 from optraj.robots import PADDLE4_WORKSPACE
 from optraj.sweeps.shots import (
     MAX_SHOTS,
     Shot,
     ShotSequence,
+    as_grid,
     as_range,
     as_values,
-    check_spread,
+    check_total,
     make_shot,
 )
 from optraj.validation import as_count
@@ -95,21 +95,9 @@ class PaddleShotSet(ShotSequence):
         self._check_grid()
 
     def _check_grid(self) -> None:
-        if not isinstance(self.grid, (tuple, list)) or len(self.grid) != 3:
-            raise InvalidInputError(
-                f"grid must be a triple (along x, along y, along z), got {self.grid!r}",
-                name="grid",
-                value=self.grid,
-            )
-        grid = tuple(as_count(count, "grid", 1, MAX_GRID) for count in self.grid)
-        object.__setattr__(self, "grid", grid)
-        if self.samples is None:
-            check_spread(grid, {"x": self.x, "y": self.y, "z": self.z})
-        total = len(self)
-        if total > MAX_SHOTS:
-            raise InvalidInputError(
-                f"a shot set holds at most {MAX_SHOTS} shots, got {total}", name="grid", value=total
-            )
+        ranges = {"x": self.x, "y": self.y, "z": self.z}
+        object.__setattr__(self, "grid", as_grid(self.grid, ranges, self.samples, MAX_GRID))
+        check_total(len(self))
 
     def __len__(self) -> int:
         if self.samples is not None:

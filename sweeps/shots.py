@@ -33,9 +33,10 @@ __all__ = [
     "Shot",
     "ShotSequence",
     "ShotSet",
+    "as_grid",
     "as_range",
     "as_values",
-    "check_spread",
+    "check_total",
     "make_shot",
 ]
 
@@ -100,19 +101,40 @@ class Shot:
         )
 
 
-def check_spread(grid: tuple[int, ...], ranges: dict[str, tuple[float, float]]) -> None:
-    """Refuse several grid positions along an axis whose range is one value.
+def as_grid(
+    value: object, ranges: dict[str, tuple[float, float]], samples: int | None, maximum: int
+) -> tuple[int, ...]:
+    """A grid of positions, one count in [1, maximum] per axis of ``ranges``, checked.
 
-    Every shot of such a grid would be there more than once.
+    Raises:
+        InvalidInputError: Not one count per axis, a count out of range, or (for a grid,
+            ``samples`` None) several positions along an axis whose range is one value:
+            every shot there would be repeated.
     """
-    for count, (axis, (first, last)) in zip(grid, ranges.items(), strict=True):
-        if count > 1 and first == last:
+    axes = list(ranges)
+    if not isinstance(value, (tuple, list)) or len(value) != len(axes):
+        size = {2: "a pair", 3: "a triple"}.get(len(axes), f"{len(axes)} counts")
+        along = ", ".join(f"along {axis}" for axis in axes)
+        raise InvalidInputError(f"grid must be {size} ({along}), got {value!r}", name="grid")
+    grid = tuple(as_count(count, "grid", 1, maximum) for count in value)
+    for count, axis in zip(grid, axes, strict=True):
+        first, last = ranges[axis]
+        if samples is None and count > 1 and first == last:
             raise InvalidInputError(
                 f"grid has {count} positions along {axis}, but {axis} is the single value "
                 f"{first:.6g} m: give a range or 1 position",
                 name="grid",
                 value=grid,
             )
+    return grid
+
+
+def check_total(total: int) -> None:
+    """Refuse a set of more than :data:`MAX_SHOTS` shots."""
+    if total > MAX_SHOTS:
+        raise InvalidInputError(
+            f"a shot set holds at most {MAX_SHOTS} shots, got {total}", name="grid", value=total
+        )
 
 
 def make_shot(
@@ -255,19 +277,9 @@ class ShotSet(ShotSequence):
         self._check_grid()
 
     def _check_grid(self) -> None:
-        if not isinstance(self.grid, (tuple, list)) or len(self.grid) != 2:
-            raise InvalidInputError(
-                f"grid must be a pair (along x, along y), got {self.grid!r}", name="grid"
-            )
-        grid = (as_count(self.grid[0], "grid", 1, 1000), as_count(self.grid[1], "grid", 1, 1000))
-        object.__setattr__(self, "grid", grid)
-        if self.samples is None:
-            check_spread(grid, {"x": self.x, "y": self.y})
-        total = len(self)
-        if total > MAX_SHOTS:
-            raise InvalidInputError(
-                f"a shot set holds at most {MAX_SHOTS} shots, got {total}", name="grid", value=total
-            )
+        ranges = {"x": self.x, "y": self.y}
+        object.__setattr__(self, "grid", as_grid(self.grid, ranges, self.samples, 1000))
+        check_total(len(self))
 
     def __len__(self) -> int:
         if self.samples is not None:

@@ -6,6 +6,7 @@ can unpickle them.
 
 from __future__ import annotations
 
+import itertools
 import os
 import signal
 import time
@@ -120,3 +121,38 @@ class StuckOnOne:
         if problem.ball[1] == 0.0 and problem.speed == 0.9:
             Stuck().plan(problem)
         return self.ruckig.plan(problem)
+
+
+#: A made-up grid for the map and plot tests: ball x and y [m], headings [deg], speeds [m/s].
+XS, YS, HEADINGS, SPEEDS = (0.7, 0.8, 0.9), (0.0, 0.1), (0.0, 45.0), (0.3, 0.9)
+
+
+def made_up_value(x, y, heading, speed):
+    """A made-up value that differs at every cell, heading and speed."""
+    return round(10 * x + y + heading / 100 + speed / 1000, 9)
+
+
+def grid_rows(max_speed_per_position=False):
+    """Rows of the made-up grid: x = 0.9 m has no max_speed and the shots at 0.9 m/s are
+    refused (no motion time). ``max_speed_per_position``: one max_speed at each ball
+    position (its value at 0.9 m/s), as a real sweep gives."""
+    from optraj.sweeps.columns import empty_row
+
+    rows = []
+    for x, y, heading, speed in itertools.product(XS, YS, HEADINGS, SPEEDS):
+        planned = speed < 0.5
+        fastest = made_up_value(x, y, heading, 0.9 if max_speed_per_position else speed)
+        rows.append(
+            empty_row()
+            | {
+                "shot_id": f"{x}:{y}:{heading}:{speed}",
+                "ball_x": x,
+                "ball_y": y,
+                "heading": heading,
+                "speed": speed,
+                "status": "planned" if planned else "refused",
+                "motion_time": made_up_value(x, y, heading, speed) if planned else None,
+                "max_speed": None if x == 0.9 else fastest,
+            }
+        )
+    return rows

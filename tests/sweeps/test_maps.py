@@ -4,42 +4,11 @@ import math
 
 import numpy as np
 import pytest
+from sweeps_support import HEADINGS, XS, YS, grid_rows, made_up_value
 
 from optraj.errors import InvalidInputError
 from optraj.sweeps.columns import empty_row
 from optraj.sweeps.maps import MAX_PANELS, heading_maps, rows_of, speeds_of
-
-XS, YS, HEADINGS, SPEEDS = (0.7, 0.8, 0.9), (0.0, 0.1), (0.0, 45.0), (0.3, 0.9)
-
-
-def _value(x, y, heading, speed):
-    """A made-up value that differs at every cell, heading and speed."""
-    return round(10 * x + y + heading / 100 + speed / 1000, 9)
-
-
-def grid_rows():
-    """Rows of a 3x2 grid, two headings and two speeds; x = 0.9 m has no max_speed, and the
-    shots at 0.9 m/s are refused (no motion time)."""
-    rows = []
-    for x in XS:
-        for y in YS:
-            for heading in HEADINGS:
-                for speed in SPEEDS:
-                    planned = speed < 0.5
-                    rows.append(
-                        empty_row()
-                        | {
-                            "shot_id": f"{x}:{y}:{heading}:{speed}",
-                            "ball_x": x,
-                            "ball_y": y,
-                            "heading": heading,
-                            "speed": speed,
-                            "status": "planned" if planned else "refused",
-                            "motion_time": _value(x, y, heading, speed) if planned else None,
-                            "max_speed": None if x == 0.9 else _value(x, y, heading, speed),
-                        }
-                    )
-    return rows
 
 
 def test_a_grid_gives_one_map_per_heading_with_values_at_their_cells():
@@ -51,13 +20,13 @@ def test_a_grid_gives_one_map_per_heading_with_values_at_their_cells():
         assert one.values.shape == (len(YS), len(XS))
         for i, x in enumerate(XS):
             for j, y in enumerate(YS):
-                assert one.values[j, i] == _value(x, y, one.heading, 0.3)
+                assert one.values[j, i] == made_up_value(x, y, one.heading, 0.3)
 
 
 def test_a_cell_takes_the_largest_value_of_its_speeds_and_nan_without_one():
     (one,) = heading_maps(grid_rows(), "max_speed", headings=[45.0])
     assert one.heading == 45.0
-    assert one.values[1, 0] == _value(0.7, 0.1, 45.0, 0.9)
+    assert one.values[1, 0] == made_up_value(0.7, 0.1, 45.0, 0.9)
     assert np.isnan(one.values[:, 2]).all()  # x = 0.9 m gave no max_speed
     (refused,) = heading_maps(grid_rows(), "motion_time", speed=0.9, headings=[0.0])
     assert np.isnan(refused.values).all()
@@ -117,7 +86,7 @@ def test_a_dataframe_is_read_as_its_rows():
          "several speeds (0.3, 0.9 m/s) at one ball position: choose one with speed="),
     ],
 )  # fmt: skip
-def test_bad_input_raises_typed_errors_naming_the_value(call, words):
+def test_bad_input_raises_typed_errors_naming_themade_up_value(call, words):
     with pytest.raises(InvalidInputError) as info:
         call()
     assert words in str(info.value)

@@ -4,7 +4,7 @@ import sys
 
 import numpy as np
 import pytest
-from sweeps_support import SMALL
+from sweeps_support import HEADINGS, SMALL, XS, YS, grid_rows, made_up_value
 
 from optraj import sweeps
 from optraj.errors import InvalidInputError, MissingDependencyError
@@ -14,34 +14,10 @@ from optraj.sweeps.columns import empty_row
 matplotlib = pytest.importorskip("matplotlib")  # the examples extra, which make test installs
 matplotlib.use("Agg")
 
-XS, YS, HEADINGS, SPEEDS = (0.7, 0.8, 0.9), (0.0, 0.1), (0.0, 45.0), (0.3, 0.9)
-
-
-def _value(x, y, heading, speed):
-    return round(10 * x + y + heading / 100 + speed / 1000, 9)
-
 
 def _rows():
-    """A 3x2 grid, two headings, two speeds; no max_speed at x = 0.9 m, 0.9 m/s refused."""
-    rows = []
-    for x in XS:
-        for y in YS:
-            for heading in HEADINGS:
-                for speed in SPEEDS:
-                    planned = speed < 0.5
-                    rows.append(
-                        empty_row()
-                        | {
-                            "ball_x": x,
-                            "ball_y": y,
-                            "heading": heading,
-                            "speed": speed,
-                            "status": "planned" if planned else "refused",
-                            "motion_time": _value(x, y, heading, speed) if planned else None,
-                            "max_speed": None if x == 0.9 else _value(x, y, heading, 0.9),
-                        }
-                    )
-    return rows
+    """The made-up grid with one max_speed per ball position."""
+    return grid_rows(max_speed_per_position=True)
 
 
 def _panels(figure):
@@ -60,7 +36,7 @@ def test_max_speed_map_has_a_panel_per_heading_and_the_values_at_their_cells():
                 if x == 0.9:
                     assert colours.mask[j, i]  # no value: drawn over the hatched grey
                 else:
-                    assert colours[j, i] == _value(x, y, heading, 0.9)
+                    assert colours[j, i] == made_up_value(x, y, heading, 0.9)
         assert any(p.get_hatch() for p in ax.patches)
         assert ax.get_xlabel() == "ball x [m]" and ax.get_ylabel() == "ball y [m]"
         (base,) = ax.lines
@@ -84,7 +60,7 @@ def test_motion_time_map_shows_the_chosen_speed():
     (panel,) = _panels(figure)
     mesh = panel.collections[0]
     colours = np.ma.asarray(mesh.get_array()).reshape(len(YS), len(XS))
-    assert colours[1, 2] == _value(0.9, 0.1, 45.0, 0.3)
+    assert colours[1, 2] == made_up_value(0.9, 0.1, 45.0, 0.3)
     assert not np.ma.getmaskarray(colours).any() and not panel.patches  # every cell planned
     assert any(ax.get_ylabel() == "motion time [s]" for ax in figure.axes)
     assert "0.3 m/s" in figure.get_suptitle()
@@ -116,12 +92,21 @@ def test_a_random_set_is_drawn_as_points():
     ("call", "words"),
     [
         (lambda: plot_max_speed([]), "at least one sweep row, got none"),
-        (lambda: plot_max_speed(_rows(), headings=[90.0]), "heading 90 deg is not in the rows"),
-        (lambda: plot_motion_time(_rows(), speed=0.5), "speed 0.5 m/s is not in the rows"),
-        (lambda: plot_motion_time(_rows()), "several speeds (0.3, 0.9 m/s)"),
+        (
+            lambda: plot_max_speed(_rows(), headings=[90.0]),
+            "heading 90 deg is not in the rows",
+        ),
+        (
+            lambda: plot_motion_time(_rows(), speed=0.5),
+            "speed 0.5 m/s is not in the rows",
+        ),
+        (
+            lambda: plot_motion_time(_rows()),
+            "several speeds (0.3, 0.9 m/s)",
+        ),
     ],
 )
-def test_bad_input_raises_typed_errors_naming_the_value(call, words):
+def test_bad_input_raises_typed_errors_naming_themade_up_value(call, words):
     with pytest.raises(InvalidInputError) as info:
         call()
     assert words in str(info.value)
