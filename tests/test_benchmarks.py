@@ -262,7 +262,8 @@ def test_sweep_quick_run_writes_its_tables(tmp_path, monkeypatch):
     assert {("local processes", "2"), ("Dask", "2")} <= set(executors)
     assert all(float(row[5]) > 0.0 for row in rows)  # shots/s
     assert all(float(row[7]) > 0.0 and float(row[8]) >= 0.0 for row in rows[1:])
-    assert [float(row[6]) for row in rows if row[3] == "1"] == [1.0, 1.0]  # speed-up of one
+    ones = [float(row[6]) for row in rows if row[3] == "1"]  # the faster of the two is 1
+    assert max(ones) == 1.0 and 0.0 < min(ones) <= 1.0
     million = text.split("## A million shots")[1]
     hours = [float(line.split("|")[3]) for line in million.splitlines() if line.startswith("| 1")]
     assert len(hours) == 3 and hours[0] > hours[1] > hours[2]  # 1, 10, 100 machines
