@@ -27,8 +27,8 @@ class ShotJob:
         name: Its registry name (the rows' ``planner`` column).
         seconds: Longest a shot may take [s], its outcome included; no limit when None.
         outcome: Track each planned shot in MuJoCo and judge it by the ball (the outcome
-            columns, :data:`optraj.sweeps.columns.OUTCOME_COLUMNS`); about 1 s more per
-            Sawyer pool shot and 0.5 s per paddle strike. None in those columns otherwise.
+            columns, :data:`optraj.sweeps.columns.OUTCOME_COLUMNS`); None in those columns
+            otherwise.
 
     Raises:
         InvalidInputError: ``outcome`` is not True or False.

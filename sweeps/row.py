@@ -7,10 +7,9 @@ and message. Before planning, it searches the shot's contact once
 (:func:`optraj.planners.strike.contact.choose_contact`, its defaults: 16 candidates, seed 0,
 no margin) for the fastest strike speed the velocity limits allow there and its binding
 joint (:func:`contact_columns`); a search that fails leaves those columns None and the rest of
-the row as the planner makes it. The planners' own contact searches are not shared with it
-(no planner takes a chosen contact yet): the search costs about 0.06 s per Sawyer pool shot,
-which doubles a Ruckig shot's plan time and adds about a fifth to an optimal-control shot's,
-and under 1 ms per paddle strike.
+the row as the planner makes it. ``choose_contact`` remembers its answer per problem, so a
+planner that chooses its contact with the same defaults (``contact="choose"``) reuses this
+search; one that plans at the problem's own contact pays for it on top.
 """
 
 from __future__ import annotations
@@ -105,7 +104,7 @@ def plan_row(
         shot: The shot.
         seconds: Longest the shot may take [s], the outcome included; no limit when None.
         outcome: Track a planned shot in MuJoCo and fill the outcome columns
-            (:func:`optraj.sweeps.outcome_row.outcome_columns`, about 1 s per pool shot).
+            (:func:`optraj.sweeps.outcome_row.outcome_columns`).
     """
     start = time.perf_counter()
     contact: dict[str, object] = {}
