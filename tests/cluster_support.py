@@ -37,10 +37,10 @@ def loads():
     return os.getpid(), LOADS["count"]
 
 
-def register(monkeypatch_free_registry=registry):
-    """Register the planners above for pool shots (into the registry the test set up)."""
-    monkeypatch_free_registry.register_planner("pool-shot", "test-spin", Spinning)
-    monkeypatch_free_registry.register_planner("pool-shot", "test-count", CountingLoads)
+def register():
+    """Register the planners above for pool shots, in the registry copy the test set up."""
+    registry.register_planner("pool-shot", "test-spin", Spinning)
+    registry.register_planner("pool-shot", "test-count", CountingLoads)
 
 
 class ThreadsReporting:

@@ -156,3 +156,29 @@ def grid_rows(max_speed_per_position=False):
             }
         )
     return rows
+
+
+def random_rows(count, seed, refused_every=None):
+    """``count`` made-up rows of a random set: ball x in [0.6, 0.9] m, y in [0, 0.3] m,
+    heading in [-20, 20] deg, speed in [0.3, 0.9] m/s, drawn with ``seed``; row i planned
+    with motion time i [s], except every ``refused_every``-th row from the first, refused."""
+    import numpy as np
+
+    from optraj.sweeps.columns import empty_row
+
+    rng = np.random.default_rng(seed)
+    rows = []
+    for i in range(count):
+        refused = refused_every is not None and i % refused_every == 0
+        rows.append(
+            empty_row()
+            | {
+                "ball_x": rng.uniform(0.6, 0.9),
+                "ball_y": rng.uniform(0.0, 0.3),
+                "heading": rng.uniform(-20.0, 20.0),
+                "speed": rng.uniform(0.3, 0.9),
+                "status": "refused" if refused else "planned",
+                "motion_time": None if refused else float(i),
+            }
+        )
+    return rows

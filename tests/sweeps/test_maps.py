@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 import pytest
-from sweeps_support import HEADINGS, XS, YS, grid_rows, made_up_value
+from sweeps_support import HEADINGS, XS, YS, grid_rows, made_up_value, random_rows
 
 from optraj.errors import InvalidInputError
 from optraj.sweeps.columns import empty_row
@@ -33,19 +33,7 @@ def test_a_cell_takes_the_largest_value_of_its_speeds_and_nan_without_one():
 
 
 def test_a_random_set_is_one_panel_of_points():
-    rng = np.random.default_rng(5)
-    rows = [
-        empty_row()
-        | {
-            "ball_x": rng.uniform(0.6, 0.9),
-            "ball_y": rng.uniform(0.0, 0.3),
-            "heading": rng.uniform(-20.0, 20.0),
-            "speed": rng.uniform(0.3, 0.9),
-            "status": "planned",
-            "motion_time": float(i),
-        }
-        for i in range(MAX_PANELS + 4)
-    ]
+    rows = random_rows(MAX_PANELS + 4, seed=5)
     (one,) = heading_maps(rows, "motion_time", one_per_point=True)
     assert one.heading is None and not one.on_grid
     assert sorted(one.values.tolist()) == [float(i) for i in range(len(rows))]

@@ -4,12 +4,11 @@ import sys
 
 import numpy as np
 import pytest
-from sweeps_support import HEADINGS, SMALL, XS, YS, grid_rows, made_up_value
+from sweeps_support import HEADINGS, SMALL, XS, YS, grid_rows, made_up_value, random_rows
 
 from optraj import sweeps
 from optraj.errors import InvalidInputError, MissingDependencyError
 from optraj.sweeps import plot_max_speed, plot_motion_time
-from optraj.sweeps.columns import empty_row
 
 matplotlib = pytest.importorskip("matplotlib")  # the examples extra, which make test installs
 matplotlib.use("Agg")
@@ -69,19 +68,7 @@ def test_motion_time_map_shows_the_chosen_speed():
 
 
 def test_a_random_set_is_drawn_as_points():
-    rng = np.random.default_rng(2)
-    rows = [
-        empty_row()
-        | {
-            "ball_x": rng.uniform(0.6, 0.9),
-            "ball_y": rng.uniform(0.0, 0.3),
-            "heading": rng.uniform(-20.0, 20.0),
-            "speed": rng.uniform(0.3, 0.9),
-            "status": "planned" if i % 4 else "refused",
-            "motion_time": float(i) if i % 4 else None,
-        }
-        for i in range(12)
-    ]
+    rows = random_rows(12, seed=2, refused_every=4)
     (panel,) = [ax for ax in plot_motion_time(rows).axes if ax.get_title() == "every heading"]
     drawn, missed = panel.collections
     assert sorted(drawn.get_array().tolist()) == [float(i) for i in range(12) if i % 4]
