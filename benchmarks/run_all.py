@@ -1,7 +1,7 @@
 """Every benchmark in one run: time-optimal profiles, pool strikes, tracking; tables and plots.
 
-Runs ``time_optimal.py``, ``strike.py``, ``tracking.py``, ``outcome.py`` and ``sweep.py``
-(each writes its Markdown table into the output folder; ``outcome.py`` also draws
+Runs ``time_optimal.py``, ``strike.py``, ``tracking.py``, ``outcome.py``, ``sweep.py`` and
+``peers.py`` (each writes its Markdown table into the output folder; ``outcome.py`` also draws
 ``outcome_paths.png`` and ``outcome_heading.png``), then draws the plots (PNG) of the pool shot:
 
 * ``profiles.png``: the busiest joint of a Sawyer move by every joint-space planner;
@@ -24,6 +24,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import outcome
+import peers
 import strike
 import sweep
 import time_optimal
@@ -46,6 +47,7 @@ BENCHMARKS: list[tuple[str, Callable[[list[str]], int], list[str]]] = [
     ("tracking", tracking.main, []),
     ("outcome", outcome.main, []),
     ("sweep", sweep.main, []),
+    ("peers", peers.main, []),
 ]
 
 
@@ -173,6 +175,11 @@ def results_section(out: Path, plots: Path) -> str:
             "A million-shot map, from the measured cost per shot:",
             "",
             first_table(read["sweep"], "## A million shots"),
+            "",
+            f"**Against the peers, side by side** (`{cite['peers']}`; each row's peer and "
+            "what its ratio divides in `benchmarks/results/peers.md`):",
+            "",
+            first_table(read["peers"]),
             "",
             END,
         ]
