@@ -4,6 +4,7 @@ PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
+PEERS  := $(VENV)/.peers
 
 .PHONY: demo test bench fuzz lint clean
 
@@ -24,7 +25,12 @@ test: $(STAMP)
 	$(BIN)/python scripts/typecheck.py
 	$(BIN)/python -m pytest
 
-bench: $(STAMP)
+# The peers that benchmarks/peers.py times optraj against; only `make bench` needs them.
+$(PEERS): pyproject.toml $(STAMP)
+	$(BIN)/python -m pip install --quiet -e '.[peers]'
+	touch $(PEERS)
+
+bench: $(STAMP) $(PEERS)
 	$(BIN)/python benchmarks/run_all.py --readme
 
 # 100,000 fuzz cases from a fixed seed (FUZZ_SEED, FUZZ_CASES override), under 10 min on
