@@ -141,7 +141,7 @@ def test_tracking_quick_run_writes_its_tables(tmp_path, monkeypatch):
 
 def test_run_all_runs_each_benchmark_draws_the_plots_and_rewrites_the_readme(tmp_path, monkeypatch):
     module = _load("run_all", monkeypatch)
-    module_names = ["time_optimal", "strike", "tracking", "outcome", "sweep"]
+    module_names = ["time_optimal", "strike", "tracking", "outcome", "sweep", "peers"]
     calls = []
 
     def fake(name):
@@ -176,6 +176,7 @@ def test_run_all_runs_each_benchmark_draws_the_plots_and_rewrites_the_readme(tmp
     assert "| strike | 1 |" in text and "| tracking timing |" in text
     assert "| time_optimal durations |" in text and "| outcome targets |" in text
     assert "| sweep throughput |" in text and "| sweep million |" in text
+    assert "| peers | 1 |" in text and "`python benchmarks/peers.py --quick`" in text
     assert "/outcome_paths.png)" in text and "/outcome_heading.png)" in text
     assert f"]({out.resolve()}/tracking.png)" in text  # outside the repository: absolute
 
@@ -269,3 +270,118 @@ def test_sweep_quick_run_writes_its_tables(tmp_path, monkeypatch):
     assert len(hours) == 3 and hours[0] > hours[1] > hours[2]  # 1, 10, 100 machines
     assert (tmp_path / "sweep_map.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "## Map" in text and "4 shots at 0.5 m/s" in text
+
+
+PEER_ROWS = [
+    "quintic 2 s, rest",
+    "quintic 2 s, boundary",
+    "cubic 2 s, rest",
+    "cubic 2 s, boundary",
+    "quintic shortest, rest",
+    "quintic shortest, boundary",
+    "cubic shortest, rest",
+    "cubic shortest, boundary",
+    "LSPB, rest",
+    "ViaPoints lspb",
+    "ViaPoints quintic",
+    "PointToPoint construction",
+    "Ruckig, rest",
+    "Ruckig, boundary",
+    "Toppra, 100 intervals",
+    "OptimalControl min time, NLP reused, vs bare CasADi",
+    "OptimalControl min time, NLP reused, vs Drake",
+    "OptimalControl first plan vs reused",
+    "strike OCP warm re-plan vs cold",
+    "strike OCP cold vs Ruckig strike",
+    "DiffIKQP step vs pink + daqp",
+]
+
+
+def _table_rows(text: str, header: str) -> list[list[str]]:
+    lines = text.split(header)[1].split("\n\n")[0].splitlines()[2:]  # past the header
+    return [[c.strip() for c in line.strip("|").split("|")] for line in lines]
+
+
+def test_peers_quick_run_times_every_row_of_the_protocol(tmp_path, monkeypatch):
+    module = _load("peers", monkeypatch)
+    out = tmp_path / "peers" / "peers.md"
+    assert module.main(["--quick", "--out", str(out)]) == 0  # with or without the peers
+    text = out.read_text()
+    assert "OMP_NUM_THREADS=1, OPENBLAS_NUM_THREADS=1, MKL_NUM_THREADS=1" in text
+    rows = _table_rows(text, "| row | optraj [us] | peer or reference [us] |")
+    assert [row[0] for row in rows] == PEER_ROWS
+    for label, ours, other, ratio, target, met, moves in rows:
+        assert float(ours) > 0.0, label  # optraj is timed whatever the peers
+        assert int(moves.split("/")[0]) >= 1, label
+        if label == "PointToPoint construction":
+            assert (other, ratio, target) == ("-", "-", "optraj <= 10 us")
+        elif other.startswith("peer not installed ("):
+            assert (ratio, met) == ("-", "-"), label
+        else:
+            assert float(other) > 0.0 and float(ratio) > 0.0, label
+            assert met in ("met", "missed"), label
+    by_label = {row[0]: row for row in rows}
+    assert by_label["DiffIKQP step vs pink + daqp"][6] == "100/100"
+    solvers = _table_rows(text, "| solver | moves solved |")
+    assert [row[0] for row in solvers] == [
+        "optraj OptimalControl('time')",
+        "bare CasADi + IPOPT",
+        "Drake KinematicTrajectoryOptimization + IPOPT",
+    ]
+    ours = solvers[0]
+    assert ours[1] == "2" and float(ours[2]) >= 1.0 and 0.999 <= float(ours[3]) < 1.1
+
+
+def test_peer_rows_leave_out_refused_and_failed_moves_and_divide_as_their_target_says(
+    monkeypatch,
+):
+    from optraj.errors import InvalidInputError
+
+    timing = _load("peer_timing", monkeypatch)
+
+    def ours(k):
+        if k == 1:
+            raise InvalidInputError("refused", name="k")
+        return lambda: k
+
+    def other(k, result):
+        assert result == k  # what optraj's untimed call returned
+        if k == 2:
+            raise RuntimeError("the peer fails")
+        return lambda: -k
+
+    seen = []
+    spec = timing.Spec("row", ours, other, None, observe=lambda *a: seen.append(a))
+    row = timing.measure(spec, 4, repeats=3)
+    assert seen == [(0, 0, 0), (3, 3, -3)]
+    assert len(row.ours) == len(row.other) == 2 and min(row.ours + row.other) > 0.0
+    cells = row.cells()
+    assert (
+        cells[-1]
+        == "2/4; optraj refused 1 (InvalidInputError); other side failed on 1 (RuntimeError)"
+    )
+
+    row.ours, row.other = [1e-6, 3e-6], [4e-6, 4e-6]  # medians 2 us and 4 us
+    assert row.ratio() == pytest.approx(2.0) and row.met() == "met"  # peer / optraj >= 1
+    quotient = timing.Row(timing.Spec("q", ours, other, None, kind="warm / cold", goal=0.2), 2)
+    quotient.ours, quotient.other = [1e-6, 3e-6], [4e-6, 4e-6]
+    assert quotient.ratio() == pytest.approx(0.5) and quotient.met() == "missed"
+    absolute = timing.Row(timing.Spec("a", ours, None, None, kind=timing.ABSOLUTE, goal=10.0), 1)
+    absolute.ours = [9e-6]
+    assert absolute.met() == "met" and absolute.cells()[1:4] == ["-", "-", "optraj <= 10 us"]
+    absent = timing.Row(timing.Spec("p", ours, other, "pink not installed"), 1)
+    absent.ours = [9e-6]
+    assert absent.cells()[1:5] == [
+        "peer not installed (pink not installed)",
+        "-",
+        "peer / optraj >= 1",
+        "-",
+    ]
+
+
+def test_a_peer_whose_module_is_absent_is_named_missing(monkeypatch):
+    calls = _load("peer_calls", monkeypatch)
+    monkeypatch.setitem(calls.MODULES, "absent", ("numpy", "no_such_module_35"))
+    assert calls.missing("absent") == "no_such_module_35 not installed"
+    monkeypatch.setitem(calls.MODULES, "present", ("numpy",))
+    assert calls.missing("present") is None
