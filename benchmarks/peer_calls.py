@@ -105,19 +105,25 @@ def ruckig_move(q0: Any, q1: Any, qd0: Any, qd1: Any, limits: robots.JointLimits
 
 
 def toppra_path(
-    knots: Any, waypoints: Any, grid: Any, limits: robots.JointLimits
+    knots: Any, waypoints: Any, grid: Any, limits: robots.JointLimits, *, pchip: bool = False
 ) -> Callable[[], Any]:
-    """toppra on its own spline through ``waypoints`` at ``knots`` (s), on ``grid``.
+    """toppra on a cubic through ``waypoints`` at path positions ``knots``, on ``grid``.
 
-    Returns the call that parametrises the path with joint velocity and acceleration
-    constraints, at rest at both ends; it raises :class:`PeerError` when toppra finds none.
+    The cubic is toppra's own ``SplineInterpolator`` (scipy's not-a-knot ``CubicSpline``), or
+    with ``pchip`` scipy's ``PchipInterpolator`` behind toppra's path interface (what optraj
+    takes where the spline would leave the position limits). Returns the call that
+    parametrises the path with joint velocity and acceleration constraints, at rest at both
+    ends; it raises :class:`PeerError` when toppra finds no parametrisation.
     """
     import toppra
     import toppra.algorithm
     import toppra.constraint
 
     def solve() -> Any:
-        path = toppra.SplineInterpolator(knots, waypoints)
+        if pchip:
+            path = _pchip_path(knots, waypoints)
+        else:
+            path = toppra.SplineInterpolator(knots, waypoints)
         velocity = toppra.constraint.JointVelocityConstraint(
             np.column_stack([-limits.velocity, limits.velocity])
         )
@@ -133,6 +139,38 @@ def toppra_path(
         return trajectory
 
     return solve
+
+
+def _pchip_path(knots: Any, waypoints: Any) -> Any:
+    """scipy's PCHIP through the waypoints as a toppra geometric path."""
+    from scipy.interpolate import PchipInterpolator
+    from toppra.interpolator import AbstractGeometricPath
+
+    class PchipPath(AbstractGeometricPath):  # type: ignore[misc]
+        """Positions and their first two derivatives along s, as toppra asks for them."""
+
+        def __init__(self) -> None:
+            self.knots = np.asarray(knots, dtype=float)
+            self.points = np.asarray(waypoints, dtype=float)
+            first = PchipInterpolator(self.knots, self.points)
+            self.orders = (first, first.derivative(), first.derivative(2))
+
+        def __call__(self, path_positions: Any, order: int = 0) -> Any:
+            return self.orders[order](path_positions)
+
+        @property
+        def dof(self) -> int:
+            return int(self.points.shape[1])
+
+        @property
+        def path_interval(self) -> Any:
+            return np.array([self.knots[0], self.knots[-1]])
+
+        @property
+        def waypoints(self) -> Any:
+            return self.knots, self.points
+
+    return PchipPath()
 
 
 class DrakeMinTime:

@@ -151,9 +151,11 @@ def time_optimal_rows(robot: robots.Robot, moves: Moves) -> list[Spec]:
         )
     toppra = planners.Toppra(gridpoints=TOPPRA_INTERVALS)
 
-    def raw_toppra(k: int, _: Any) -> Any:
-        built = toppra.build(moves.points[k], limits)  # the same spline knots and grid
-        return peer.toppra_path(built.path.knots, moves.points[k], built.grid, limits)
+    def raw_toppra(k: int, traj: Any) -> Any:
+        built = toppra.build(moves.points[k], limits)  # the same knots and grid
+        pchip = str(traj.metadata["path"]).startswith("pchip")  # the spline left the limits
+        points = moves.points[k]
+        return peer.toppra_path(built.path.knots, points, built.grid, limits, pchip=pchip)
 
     specs.append(
         Spec(
