@@ -6,6 +6,7 @@ import importlib.util
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -385,3 +386,23 @@ def test_a_peer_whose_module_is_absent_is_named_missing(monkeypatch):
     assert calls.missing("absent") == "no_such_module_35 not installed"
     monkeypatch.setitem(calls.MODULES, "present", ("numpy",))
     assert calls.missing("present") is None
+
+
+def test_the_raw_toppra_paths_are_optrajs_curves(monkeypatch):
+    import toppra
+
+    from optraj.planners.time_optimal.toppra_path import GeometricPath
+
+    calls = _load("peer_calls", monkeypatch)
+    rng = np.random.default_rng(35)
+    for _ in range(5):
+        points = rng.uniform(-2.0, 2.0, (4, 7))
+        for ours, make in (
+            (GeometricPath.pchip(points), calls._pchip_path),
+            (GeometricPath.spline(points), toppra.SplineInterpolator),
+        ):
+            theirs = make(ours.knots, points)
+            s = np.linspace(ours.knots[0], ours.knots[-1], 57)
+            assert np.allclose(theirs.path_interval, ours.knots[[0, -1]], rtol=0, atol=0)
+            for order in (0, 1, 2):
+                assert np.allclose(theirs(s, order), ours.native(s, order), rtol=1e-9, atol=1e-9)
