@@ -86,8 +86,7 @@ def report(args: argparse.Namespace, rows: list[Row], ocp: OcpRows, seconds: flo
     return [
         "# optraj against its peers",
         "",
-        f"Command: `python benchmarks/peers.py --moves {args.moves} --repeats {args.repeats} "
-        f"--shots {args.shots}`",
+        f"Command: `{command(args)}`",
         "",
         f"Panda, {args.moves} seeded moves (seed {SEED}), {args.repeats} interleaved repeats "
         f"per move; strike rows: {args.shots} Sawyer pool shots; {threads}. {seconds:.0f} s "
@@ -106,6 +105,9 @@ def report(args: argparse.Namespace, rows: list[Row], ocp: OcpRows, seconds: flo
         "control points, one program reused with new start and goal bounds) with IPOPT, for",
         "the same rest-to-rest moves; pink's `solve_ik` with daqp on the tracking benchmark's",
         "task (tool pose and posture), on the states of one DiffIKQP run of the first move.",
+        "Strike rows: each shot planned once, then its ball moved 2 cm: warm re-plans it from",
+        "that plan, cold plans it from scratch (its NLPs compiled by the untimed call), the",
+        'Ruckig strike is the registry\'s pool-shot `ruckig` planner (`contact="choose"`).',
         "Ratios are peer / optraj unless the target names another quotient. Moves: those timed",
         "of those drawn; a move optraj refuses (e.g. a 2 s time scaling that needs a joint",
         "above its velocity limit) or the other side fails on is left out of both columns.",
@@ -117,6 +119,16 @@ def report(args: argparse.Namespace, rows: list[Row], ocp: OcpRows, seconds: flo
         "Each solver against the lower bound of the limits it was given: optraj's planner",
         "keeps the jerk limit as well; the bare OCP and Drake's problem have none.",
     ]
+
+
+def command(args: argparse.Namespace) -> str:
+    """The command line that repeats this run."""
+    if args.quick:
+        return "python benchmarks/peers.py --quick"
+    return (
+        f"python benchmarks/peers.py --moves {args.moves} --repeats {args.repeats} "
+        f"--shots {args.shots}"
+    )
 
 
 def single_threaded() -> bool:

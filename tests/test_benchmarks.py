@@ -309,6 +309,7 @@ def test_peers_quick_run_times_every_row_of_the_protocol(tmp_path, monkeypatch):
     assert module.main(["--quick", "--out", str(out)]) == 0  # with or without the peers
     text = out.read_text()
     assert "OMP_NUM_THREADS=1, OPENBLAS_NUM_THREADS=1, MKL_NUM_THREADS=1" in text
+    assert "Command: `python benchmarks/peers.py --quick`" in text  # what run_all cites
     rows = _table_rows(text, "| row | optraj [us] | peer or reference [us] |")
     assert [row[0] for row in rows] == PEER_ROWS
     for label, ours, other, ratio, target, met, moves in rows:
