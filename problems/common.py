@@ -12,6 +12,7 @@ from optraj.validation import as_number, as_positive, as_vector
 __all__ = [
     "MAX_TOOL_SPEED",
     "check_robot",
+    "checked_state",
     "joint_state",
     "non_negative",
     "normal_pair",
@@ -106,17 +107,36 @@ def joint_state(
         JointLimitError: A position, speed or acceleration beyond its limit.
         InvalidInputError: Wrong shape or non-finite values.
     """
+    position = None if q is None else as_vector(q, f"q_{label}", limits.n)
+    velocity, acceleration = checked_state(limits, position, qd, qdd, label)
+    return position, velocity, acceleration
+
+
+def checked_state(
+    limits: JointLimits,
+    position: FloatArray | None,
+    qd: ArrayLike | None,
+    qdd: ArrayLike | None,
+    label: str,
+) -> tuple[FloatArray, FloatArray | None]:
+    """:func:`joint_state` for a position already checked to be a finite vector of length n.
+
+    Returns:
+        (qd, qdd or None), each shape (n,); qd is zeros when None (rest).
+
+    Raises:
+        As :func:`joint_state`.
+    """
     n = limits.n
-    position = None if q is None else as_vector(q, f"q_{label}", n)
-    if position is not None:
+    if position is not None and not limits.within_positions(position.tolist(), 1e-9):
         limits.check_position(position, tolerance=1e-9, context=f"q_{label}")
     velocity = np.zeros(n) if qd is None else as_vector(qd, f"qd_{label}", n)
     acceleration = None if qdd is None else as_vector(qdd, f"qdd_{label}", n)
     for values, bound, quantity in (
-        (velocity, limits.velocity, "velocity"),
+        (None if qd is None else velocity, limits.velocity, "velocity"),  # rest is within
         (acceleration, limits.acceleration, "acceleration"),
     ):
-        if values is None:
+        if values is None or limits.within_symmetric(quantity, values.tolist(), 1e-9):
             continue
         excess = np.abs(values) - bound
         worst = int(np.argmax(excess))
@@ -130,7 +150,7 @@ def joint_state(
                 unit=limits.unit(quantity, worst),
                 context=f"{quantity} at the {label}",
             )
-    return position, velocity, acceleration
+    return velocity, acceleration
 
 
 def resolve_limits(robot: Robot, limits: JointLimits | None) -> JointLimits:

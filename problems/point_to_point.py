@@ -8,7 +8,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
-from optraj.problems.common import check_robot, joint_state, non_negative, resolve_limits
+from optraj.problems.common import check_robot, checked_state, non_negative, resolve_limits
 from optraj.problems.constraints import BoundaryState, Constraint
 from optraj.robots import JointLimits, Robot
 from optraj.validation import as_duration, as_vector
@@ -35,8 +35,14 @@ def is_still(q_start: ArrayLike, q_goal: ArrayLike) -> bool:
         q_start: Start positions [rad or m], shape (n,).
         q_goal: Goal positions [rad or m], shape (n,).
     """
-    change = np.abs(np.asarray(q_goal, dtype=float) - np.asarray(q_start, dtype=float))
-    return float(np.max(change, initial=0.0)) <= STILL_TOLERANCE
+    start = np.asarray(q_start, dtype=float)
+    goal = np.asarray(q_goal, dtype=float)
+    if start.shape != goal.shape:  # broadcast, as NumPy does
+        change = np.abs(goal - start)
+        return float(np.max(change, initial=0.0)) <= STILL_TOLERANCE
+    # Python floats: a few joints cost less this way than in NumPy calls (a NaN is not still).
+    pairs = zip(start.ravel().tolist(), goal.ravel().tolist(), strict=True)
+    return all(abs(b - a) <= STILL_TOLERANCE for a, b in pairs)
 
 
 def still_error(
@@ -100,31 +106,36 @@ class PointToPoint:
 
     def __post_init__(self) -> None:
         limits = resolve_limits(check_robot(self.robot), self.limits)
-        set_ = object.__setattr__
-        set_(self, "limits", limits)
+        n = limits.n
         # positions are required here (joint_state takes None for "not given")
-        q_start = as_vector(self.q_start, "q_start", limits.n)
-        q_goal = as_vector(self.q_goal, "q_goal", limits.n)
-        q0, v0, a0 = joint_state(limits, q_start, self.qd_start, self.qdd_start, "start")
-        q1, v1, a1 = joint_state(limits, q_goal, self.qd_goal, self.qdd_goal, "goal")
-        for name, value in (
-            ("q_start", q0),
-            ("qd_start", v0),
-            ("qdd_start", a0),
-            ("q_goal", q1),
-            ("qd_goal", v1),
-            ("qdd_goal", a1),
-        ):
-            set_(self, name, value)
-        if self.duration is not None:
-            set_(self, "duration", as_duration(self.duration, "duration"))
-        set_(self, "tolerance", non_negative(self.tolerance, "tolerance", ""))
+        q0 = as_vector(self.q_start, "q_start", n)
+        q1 = as_vector(self.q_goal, "q_goal", n)
+        v0, a0 = checked_state(limits, q0, self.qd_start, self.qdd_start, "start")
+        v1, a1 = checked_state(limits, q1, self.qd_goal, self.qdd_goal, "goal")
+        duration = self.duration
+        if duration is not None:
+            duration = as_duration(duration, "duration")
+        tolerance = non_negative(self.tolerance, "tolerance", "")
+        # One update of the frozen fields rather than nine object.__setattr__ calls.
+        vars(self).update(
+            limits=limits,
+            q_start=q0,
+            qd_start=v0,
+            qdd_start=a0,
+            q_goal=q1,
+            qd_goal=v1,
+            qdd_goal=a1,
+            duration=duration,
+            tolerance=tolerance,
+        )
 
     @property
     def at_rest(self) -> bool:
         """Whether the move starts and ends at rest (zero velocities, no or zero accelerations)."""
+        # Lists: a few floats are tested faster in Python than by NumPy (0.0 and -0.0 are
+        # falsy, every other finite float truthy).
         return not any(
-            value is not None and np.any(np.asarray(value) != 0.0)
+            value is not None and any(np.asarray(value).tolist())
             for value in (self.qd_start, self.qd_goal, self.qdd_start, self.qdd_goal)
         )
 

@@ -151,3 +151,16 @@ def test_moves_just_above_the_tolerance_plan_and_pass_the_checker(robot_name, na
 def test_the_tolerance_is_one_constant():
     assert is_still([0.0, 1.0], [STILL_TOLERANCE, 1.0 - STILL_TOLERANCE])
     assert not is_still([0.0, 1.0], [2 * STILL_TOLERANCE, 1.0])
+
+
+def test_is_still_is_the_largest_change_against_the_tolerance_on_seeded_random_pairs():
+    rng = np.random.default_rng(3504)
+    for _ in range(300):
+        start = rng.normal(size=int(rng.integers(1, 9)))
+        change = rng.choice([0.0, 0.5, 1.0, 1.5, 1e6], size=start.size) * STILL_TOLERANCE
+        goal = start + change * rng.choice([-1.0, 1.0], size=start.size)
+        if rng.random() < 0.1:
+            goal[0] = np.nan
+        wanted = float(np.max(np.abs(goal - start), initial=0.0)) <= STILL_TOLERANCE
+        assert is_still(start, goal) == wanted
+        assert is_still(start.tolist(), goal.tolist()) == wanted
