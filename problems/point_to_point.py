@@ -8,7 +8,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
-from optraj.problems.common import check_robot, checked_state, non_negative, resolve_limits
+from optraj.problems.common import (
+    check_robot,
+    checked_positions,
+    checked_state,
+    non_negative,
+    resolve_limits,
+)
 from optraj.problems.constraints import BoundaryState, Constraint
 from optraj.robots import JointLimits, Robot
 from optraj.validation import as_duration, as_vector
@@ -107,11 +113,17 @@ class PointToPoint:
     def __post_init__(self) -> None:
         limits = resolve_limits(check_robot(self.robot), self.limits)
         n = limits.n
-        # positions are required here (joint_state takes None for "not given")
-        q0 = as_vector(self.q_start, "q_start", n)
-        q1 = as_vector(self.q_goal, "q_goal", n)
-        v0, a0 = checked_state(limits, q0, self.qd_start, self.qdd_start, "start")
-        v1, a1 = checked_state(limits, q1, self.qd_goal, self.qdd_goal, "goal")
+        positions = checked_positions(limits, self.q_start, self.q_goal)
+        if positions is None:  # the checks one by one, for the first error in this order
+            # positions are required here (joint_state takes None for "not given")
+            q0 = as_vector(self.q_start, "q_start", n)
+            q1 = as_vector(self.q_goal, "q_goal", n)
+            v0, a0 = checked_state(limits, q0, self.qd_start, self.qdd_start, "start")
+            v1, a1 = checked_state(limits, q1, self.qd_goal, self.qdd_goal, "goal")
+        else:  # both positions are within the limits
+            q0, q1 = positions
+            v0, a0 = checked_state(limits, None, self.qd_start, self.qdd_start, "start")
+            v1, a1 = checked_state(limits, None, self.qd_goal, self.qdd_goal, "goal")
         duration = self.duration
         if duration is not None:
             duration = as_duration(duration, "duration")
@@ -134,15 +146,19 @@ class PointToPoint:
         """Whether the move starts and ends at rest (zero velocities, no or zero accelerations)."""
         # Lists: a few floats are tested faster in Python than by NumPy (0.0 and -0.0 are
         # falsy, every other finite float truthy).
-        return not any(
-            value is not None and any(np.asarray(value).tolist())
-            for value in (self.qd_start, self.qd_goal, self.qdd_start, self.qdd_goal)
-        )
+        for value in (self.qd_start, self.qd_goal, self.qdd_start, self.qdd_goal):
+            if value is not None and any(value.tolist()):
+                return False
+        return True
 
     @property
     def still(self) -> bool:
         """Whether the goal equals the start: no joint moves more than STILL_TOLERANCE."""
-        return is_still(self.q_start, self.q_goal)
+        # The fields are validated arrays of one shape: is_still's test on their floats.
+        for a, b in zip(self.q_start.tolist(), self.q_goal.tolist(), strict=True):
+            if not abs(b - a) <= STILL_TOLERANCE:
+                return False
+        return True
 
     def require_motion(self, planner: str, remedy: str = "give a duration to hold still") -> None:
         """Refuse, for ``planner``, a rest-to-rest move that stays still and has no duration.

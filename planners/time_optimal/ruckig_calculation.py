@@ -53,9 +53,11 @@ def ruckig_input(
         interface: Ruckig's control interface.
     """
     inp = ruckig.InputParameter(limits.n)
-    if interface != ruckig.ControlInterface.Position:
+    # Identity, cheaper than the binding's equality: an equal option that is another object
+    # is set, to the value it already has.
+    if interface is not ruckig.ControlInterface.Position:
         inp.control_interface = interface
-    if synchronization != ruckig.Synchronization.Time:
+    if synchronization is not ruckig.Synchronization.Time:
         inp.synchronization = synchronization
     inp.current_position = q0.tolist()
     inp.target_position = q1.tolist()
