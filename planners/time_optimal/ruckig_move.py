@@ -30,7 +30,7 @@ import ruckig
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError
-from optraj.planners.time_optimal.ruckig_calculation import calculate, ruckig_input
+from optraj.planners.time_optimal.ruckig_calculation import calculate, reused_input
 from optraj.planners.time_optimal.ruckig_conversion import native_pieces
 from optraj.planners.time_optimal.ruckig_limits import (
     checked_pieces,
@@ -123,7 +123,7 @@ def move_between_states(
         a1 = zeros if a1 is None else a1
         check_unsynchronised(synchronization, v1, a1)
         check_boundary_states(limits, (v0, a0) if check_limits else None, (v1, a1))
-    inp = ruckig_input(
+    inp = reused_input(
         limits,
         start,
         goal,
