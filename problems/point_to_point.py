@@ -76,7 +76,7 @@ def still_error(
     )
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, init=False)  # __init__ below: one write of the fields
 class PointToPoint:
     """Move the joints from a start state to a goal state.
 
@@ -107,38 +107,57 @@ class PointToPoint:
     qdd_start: FloatArray | None = None
     qdd_goal: FloatArray | None = None
     duration: float | None = None
-    limits: JointLimits = None  # type: ignore[assignment]  # None: the robot's (__post_init__)
+    limits: JointLimits = None  # type: ignore[assignment]  # None: the robot's (__init__)
     tolerance: float = 1e-6
 
-    def __post_init__(self) -> None:
-        limits = resolve_limits(check_robot(self.robot), self.limits)
+    def __init__(
+        self,
+        robot: Robot,
+        q_start: ArrayLike,
+        q_goal: ArrayLike,
+        qd_start: ArrayLike | None = None,
+        qd_goal: ArrayLike | None = None,
+        qdd_start: ArrayLike | None = None,
+        qdd_goal: ArrayLike | None = None,
+        duration: float | None = None,
+        limits: JointLimits | None = None,
+        tolerance: float = 1e-6,
+    ) -> None:
+        """Check the states against the limits and store them as float arrays.
+
+        Raises:
+            JointLimitError: A position, velocity or acceleration beyond its limit.
+            InvalidInputError: Not a robot, limits for other joints, wrong shapes,
+                non-finite values, a duration outside [MIN_DURATION, MAX_DURATION] s or a
+                negative tolerance.
+        """
+        limits = resolve_limits(check_robot(robot), limits)
         n = limits.n
-        positions = checked_positions(limits, self.q_start, self.q_goal)
+        positions = checked_positions(limits, q_start, q_goal)
         if positions is None:  # the checks one by one, for the first error in this order
             # positions are required here (joint_state takes None for "not given")
-            q0 = as_vector(self.q_start, "q_start", n)
-            q1 = as_vector(self.q_goal, "q_goal", n)
-            v0, a0 = checked_state(limits, q0, self.qd_start, self.qdd_start, "start")
-            v1, a1 = checked_state(limits, q1, self.qd_goal, self.qdd_goal, "goal")
+            q0 = as_vector(q_start, "q_start", n)
+            q1 = as_vector(q_goal, "q_goal", n)
+            v0, a0 = checked_state(limits, q0, qd_start, qdd_start, "start")
+            v1, a1 = checked_state(limits, q1, qd_goal, qdd_goal, "goal")
         else:  # both positions are within the limits
             q0, q1 = positions
-            v0, a0 = checked_state(limits, None, self.qd_start, self.qdd_start, "start")
-            v1, a1 = checked_state(limits, None, self.qd_goal, self.qdd_goal, "goal")
-        duration = self.duration
+            v0, a0 = checked_state(limits, None, qd_start, qdd_start, "start")
+            v1, a1 = checked_state(limits, None, qd_goal, qdd_goal, "goal")
         if duration is not None:
             duration = as_duration(duration, "duration")
-        tolerance = non_negative(self.tolerance, "tolerance", "")
-        # One update of the frozen fields rather than nine object.__setattr__ calls.
+        # One write of the frozen fields rather than an object.__setattr__ call per field.
         vars(self).update(
-            limits=limits,
+            robot=robot,
             q_start=q0,
-            qd_start=v0,
-            qdd_start=a0,
             q_goal=q1,
+            qd_start=v0,
             qd_goal=v1,
+            qdd_start=a0,
             qdd_goal=a1,
             duration=duration,
-            tolerance=tolerance,
+            limits=limits,
+            tolerance=non_negative(tolerance, "tolerance", ""),
         )
 
     @property
