@@ -77,6 +77,11 @@ def ruckig_input(
     return inp
 
 
+#: Ruckig's defaults of the options a move sets (see reused_input).
+_POSITION = ruckig.ControlInterface.Position
+_TIME = ruckig.Synchronization.Time
+
+
 class _Reused:
     """One thread's reused InputParameter for n joints, set up for one limits object.
 
@@ -145,18 +150,24 @@ def reused_input(
         inp.current_velocity = inp.current_acceleration = rest
         inp.target_velocity = inp.target_acceleration = rest
         changed.discard("states")
-    # Identity, cheaper than the binding's equality (see ruckig_input).
-    for name, value, default in (
-        ("control_interface", interface, ruckig.ControlInterface.Position),
-        ("synchronization", synchronization, ruckig.Synchronization.Time),
-        ("minimum_duration", minimum_duration, None),
-    ):
-        if value is not default:
-            setattr(inp, name, value)
-            changed.add(name)
-        elif name in changed:
-            setattr(inp, name, default)
-            changed.discard(name)
+    if changed or interface is not _POSITION or synchronization is not _TIME:
+        # Identity, cheaper than the binding's equality (see ruckig_input).
+        for name, value, default in (
+            ("control_interface", interface, _POSITION),
+            ("synchronization", synchronization, _TIME),
+        ):
+            if value is not default:
+                setattr(inp, name, value)
+                changed.add(name)
+            elif name in changed:
+                setattr(inp, name, default)
+                changed.discard(name)
+    if minimum_duration is not None:
+        inp.minimum_duration = minimum_duration
+        changed.add("minimum_duration")
+    elif "minimum_duration" in changed:
+        inp.minimum_duration = None
+        changed.discard("minimum_duration")
     return inp
 
 
