@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -12,6 +14,8 @@ from optraj.validation import as_number, as_positive, as_vector
 __all__ = [
     "MAX_TOOL_SPEED",
     "check_robot",
+    "checked_positions",
+    "checked_state",
     "joint_state",
     "non_negative",
     "normal_pair",
@@ -106,17 +110,71 @@ def joint_state(
         JointLimitError: A position, speed or acceleration beyond its limit.
         InvalidInputError: Wrong shape or non-finite values.
     """
+    position = None if q is None else as_vector(q, f"q_{label}", limits.n)
+    velocity, acceleration = checked_state(limits, position, qd, qdd, label)
+    return position, velocity, acceleration
+
+
+#: NumPy's float64 type, compared by identity on the fast paths of the state checks.
+_FLOAT64 = np.dtype(np.float64)
+
+
+def checked_positions(
+    limits: JointLimits, q_start: object, q_goal: object
+) -> tuple[FloatArray, FloatArray] | None:
+    """Copies of two float64 position vectors when both lie within the position limits.
+
+    The common case of a problem's start and goal, checked in one pass over Python floats
+    (within the limits by 1e-9 implies finite, see :meth:`JointLimits.within_positions`).
+
+    Returns:
+        The two positions as new arrays, or None when either is anything else (another
+        type, shape or dtype, or out of the limits): then :func:`joint_state`'s checks give
+        the result or the error.
+    """
     n = limits.n
-    position = None if q is None else as_vector(q, f"q_{label}", n)
-    if position is not None:
+    for value in (q_start, q_goal):
+        if not (
+            type(value) is np.ndarray
+            and value.dtype is _FLOAT64
+            and value.shape == (n,)
+            and limits.within_positions(value.tolist(), 1e-9)
+        ):
+            return None
+    return cast(FloatArray, q_start).copy(), cast(FloatArray, q_goal).copy()
+
+
+def checked_state(
+    limits: JointLimits,
+    position: FloatArray | None,
+    qd: ArrayLike | None,
+    qdd: ArrayLike | None,
+    label: str,
+) -> tuple[FloatArray, FloatArray | None]:
+    """:func:`joint_state` for a position already checked to be a finite vector of length n.
+
+    Returns:
+        (qd, qdd or None), each shape (n,); qd is zeros when None (rest).
+
+    Raises:
+        As :func:`joint_state`.
+    """
+    n = limits.n
+    if position is not None and not limits.within_positions(position.tolist(), 1e-9):
         limits.check_position(position, tolerance=1e-9, context=f"q_{label}")
+    fast_velocity = None if qd is None else _rate_within(limits, qd, "velocity")
+    fast_acceleration = None if qdd is None else _rate_within(limits, qdd, "acceleration")
+    if (qd is None or fast_velocity is not None) and (qdd is None or fast_acceleration is not None):
+        # rest (zeros) is within every limit
+        return (np.zeros(n) if fast_velocity is None else fast_velocity), fast_acceleration
+    # the checks one by one, for the first error in this order
     velocity = np.zeros(n) if qd is None else as_vector(qd, f"qd_{label}", n)
     acceleration = None if qdd is None else as_vector(qdd, f"qdd_{label}", n)
     for values, bound, quantity in (
-        (velocity, limits.velocity, "velocity"),
+        (None if qd is None else velocity, limits.velocity, "velocity"),  # rest is within
         (acceleration, limits.acceleration, "acceleration"),
     ):
-        if values is None:
+        if values is None or limits.within_symmetric(quantity, values.tolist(), 1e-9):
             continue
         excess = np.abs(values) - bound
         worst = int(np.argmax(excess))
@@ -130,7 +188,22 @@ def joint_state(
                 unit=limits.unit(quantity, worst),
                 context=f"{quantity} at the {label}",
             )
-    return position, velocity, acceleration
+    return velocity, acceleration
+
+
+def _rate_within(limits: JointLimits, value: object, quantity: str) -> FloatArray | None:
+    """A copy of a float64 vector of n rates within their symmetric limits by 1e-9, else None.
+
+    Within implies finite (see :meth:`JointLimits.within_symmetric`).
+    """
+    if (
+        type(value) is np.ndarray
+        and value.dtype is _FLOAT64
+        and value.shape == (limits.n,)
+        and limits.within_symmetric(quantity, value.tolist(), 1e-9)
+    ):
+        return value.copy()
+    return None
 
 
 def resolve_limits(robot: Robot, limits: JointLimits | None) -> JointLimits:

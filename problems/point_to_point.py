@@ -8,7 +8,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
-from optraj.problems.common import check_robot, joint_state, non_negative, resolve_limits
+from optraj.problems.common import (
+    check_robot,
+    checked_positions,
+    checked_state,
+    non_negative,
+    resolve_limits,
+)
 from optraj.problems.constraints import BoundaryState, Constraint
 from optraj.robots import JointLimits, Robot
 from optraj.validation import as_duration, as_vector
@@ -35,8 +41,14 @@ def is_still(q_start: ArrayLike, q_goal: ArrayLike) -> bool:
         q_start: Start positions [rad or m], shape (n,).
         q_goal: Goal positions [rad or m], shape (n,).
     """
-    change = np.abs(np.asarray(q_goal, dtype=float) - np.asarray(q_start, dtype=float))
-    return float(np.max(change, initial=0.0)) <= STILL_TOLERANCE
+    start = np.asarray(q_start, dtype=float)
+    goal = np.asarray(q_goal, dtype=float)
+    if start.shape != goal.shape:  # broadcast, as NumPy does
+        change = np.abs(goal - start)
+        return float(np.max(change, initial=0.0)) <= STILL_TOLERANCE
+    # Python floats: a few joints cost less this way than in NumPy calls (a NaN is not still).
+    pairs = zip(start.ravel().tolist(), goal.ravel().tolist(), strict=True)
+    return all(abs(b - a) <= STILL_TOLERANCE for a, b in pairs)
 
 
 def still_error(
@@ -64,7 +76,7 @@ def still_error(
     )
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, init=False)  # __init__ below: one write of the fields
 class PointToPoint:
     """Move the joints from a start state to a goal state.
 
@@ -95,43 +107,77 @@ class PointToPoint:
     qdd_start: FloatArray | None = None
     qdd_goal: FloatArray | None = None
     duration: float | None = None
-    limits: JointLimits = None  # type: ignore[assignment]  # None: the robot's (__post_init__)
+    limits: JointLimits = None  # type: ignore[assignment]  # None: the robot's (__init__)
     tolerance: float = 1e-6
 
-    def __post_init__(self) -> None:
-        limits = resolve_limits(check_robot(self.robot), self.limits)
-        set_ = object.__setattr__
-        set_(self, "limits", limits)
-        # positions are required here (joint_state takes None for "not given")
-        q_start = as_vector(self.q_start, "q_start", limits.n)
-        q_goal = as_vector(self.q_goal, "q_goal", limits.n)
-        q0, v0, a0 = joint_state(limits, q_start, self.qd_start, self.qdd_start, "start")
-        q1, v1, a1 = joint_state(limits, q_goal, self.qd_goal, self.qdd_goal, "goal")
-        for name, value in (
-            ("q_start", q0),
-            ("qd_start", v0),
-            ("qdd_start", a0),
-            ("q_goal", q1),
-            ("qd_goal", v1),
-            ("qdd_goal", a1),
-        ):
-            set_(self, name, value)
-        if self.duration is not None:
-            set_(self, "duration", as_duration(self.duration, "duration"))
-        set_(self, "tolerance", non_negative(self.tolerance, "tolerance", ""))
+    def __init__(
+        self,
+        robot: Robot,
+        q_start: ArrayLike,
+        q_goal: ArrayLike,
+        qd_start: ArrayLike | None = None,
+        qd_goal: ArrayLike | None = None,
+        qdd_start: ArrayLike | None = None,
+        qdd_goal: ArrayLike | None = None,
+        duration: float | None = None,
+        limits: JointLimits | None = None,
+        tolerance: float = 1e-6,
+    ) -> None:
+        """Check the states against the limits and store them as float arrays.
+
+        Raises:
+            JointLimitError: A position, velocity or acceleration beyond its limit.
+            InvalidInputError: Not a robot, limits for other joints, wrong shapes,
+                non-finite values, a duration outside [MIN_DURATION, MAX_DURATION] s or a
+                negative tolerance.
+        """
+        limits = resolve_limits(check_robot(robot), limits)
+        n = limits.n
+        positions = checked_positions(limits, q_start, q_goal)
+        if positions is None:  # the checks one by one, for the first error in this order
+            # positions are required here (joint_state takes None for "not given")
+            q0 = as_vector(q_start, "q_start", n)
+            q1 = as_vector(q_goal, "q_goal", n)
+            v0, a0 = checked_state(limits, q0, qd_start, qdd_start, "start")
+            v1, a1 = checked_state(limits, q1, qd_goal, qdd_goal, "goal")
+        else:  # both positions are within the limits
+            q0, q1 = positions
+            v0, a0 = checked_state(limits, None, qd_start, qdd_start, "start")
+            v1, a1 = checked_state(limits, None, qd_goal, qdd_goal, "goal")
+        if duration is not None:
+            duration = as_duration(duration, "duration")
+        # One write of the frozen fields rather than an object.__setattr__ call per field.
+        vars(self).update(
+            robot=robot,
+            q_start=q0,
+            q_goal=q1,
+            qd_start=v0,
+            qd_goal=v1,
+            qdd_start=a0,
+            qdd_goal=a1,
+            duration=duration,
+            limits=limits,
+            tolerance=non_negative(tolerance, "tolerance", ""),
+        )
 
     @property
     def at_rest(self) -> bool:
         """Whether the move starts and ends at rest (zero velocities, no or zero accelerations)."""
-        return not any(
-            value is not None and np.any(np.asarray(value) != 0.0)
-            for value in (self.qd_start, self.qd_goal, self.qdd_start, self.qdd_goal)
-        )
+        # Lists: a few floats are tested faster in Python than by NumPy (0.0 and -0.0 are
+        # falsy, every other finite float truthy).
+        for value in (self.qd_start, self.qd_goal, self.qdd_start, self.qdd_goal):
+            if value is not None and any(value.tolist()):
+                return False
+        return True
 
     @property
     def still(self) -> bool:
         """Whether the goal equals the start: no joint moves more than STILL_TOLERANCE."""
-        return is_still(self.q_start, self.q_goal)
+        # The fields are validated arrays of one shape: is_still's test on their floats.
+        for a, b in zip(self.q_start.tolist(), self.q_goal.tolist(), strict=True):
+            if not abs(b - a) <= STILL_TOLERANCE:
+                return False
+        return True
 
     def require_motion(self, planner: str, remedy: str = "give a duration to hold still") -> None:
         """Refuse, for ``planner``, a rest-to-rest move that stays still and has no duration.

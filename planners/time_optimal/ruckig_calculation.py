@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 from optraj.errors import InfeasibleError, SolverError
 from optraj.robots import JointLimits
 
-__all__ = ["USABLE_RESULTS", "calculate", "ruckig_error", "ruckig_input"]
+__all__ = ["USABLE_RESULTS", "calculate", "reused_input", "ruckig_error", "ruckig_input"]
 
 FloatArray = NDArray[np.float64]
 
@@ -53,9 +53,11 @@ def ruckig_input(
         interface: Ruckig's control interface.
     """
     inp = ruckig.InputParameter(limits.n)
-    if interface != ruckig.ControlInterface.Position:
+    # Identity, cheaper than the binding's equality: an equal option that is another object
+    # is set, to the value it already has.
+    if interface is not ruckig.ControlInterface.Position:
         inp.control_interface = interface
-    if synchronization != ruckig.Synchronization.Time:
+    if synchronization is not ruckig.Synchronization.Time:
         inp.synchronization = synchronization
     inp.current_position = q0.tolist()
     inp.target_position = q1.tolist()
@@ -75,6 +77,100 @@ def ruckig_input(
     return inp
 
 
+#: Ruckig's defaults of the options a move sets (see reused_input).
+_POSITION = ruckig.ControlInterface.Position
+_TIME = ruckig.Synchronization.Time
+
+
+class _Reused:
+    """One thread's reused InputParameter for n joints, set up for one limits object.
+
+    Attributes:
+        limits: The limits its velocity, acceleration and jerk limits were set from.
+        inp: The input.
+        changed: Fields the last move set away from their defaults: ``states`` (the
+            boundary velocities and accelerations), ``control_interface``,
+            ``synchronization``, ``minimum_duration``.
+    """
+
+    def __init__(self, limits: JointLimits) -> None:
+        self.limits = limits
+        self.inp = ruckig.InputParameter(limits.n)
+        floats = limits.floats
+        self.inp.max_velocity = floats["velocity"]
+        self.inp.max_acceleration = floats["acceleration"]
+        self.inp.max_jerk = floats["jerk"]
+        self.changed: set[str] = set()
+
+
+def reused_input(
+    limits: JointLimits,
+    q0: FloatArray,
+    q1: FloatArray,
+    states: tuple[list[float], list[float], list[float], list[float]] | None,
+    *,
+    synchronization: ruckig.Synchronization,
+    minimum_duration: float | None,
+    interface: ruckig.ControlInterface = ruckig.ControlInterface.Position,
+) -> ruckig.InputParameter:
+    """:func:`ruckig_input`'s input, in an InputParameter this thread reuses.
+
+    Building an InputParameter and setting its limits is a sizeable part of a move's cost;
+    the reused one keeps the limits while ``limits`` is the same object (limits are frozen)
+    and has every other field set as a new one would have it. It is only valid
+    until this thread's next call: pass it straight to :func:`calculate`, never keep it.
+
+    Args:
+        limits: Velocity, acceleration and jerk limits.
+        q0: Start positions, shape (n,).
+        q1: Target positions, shape (n,).
+        states: Start velocities and accelerations, target velocities and accelerations,
+            or None for rest at both ends.
+        synchronization: Ruckig's synchronisation option.
+        minimum_duration: Shortest duration [s], or None.
+        interface: Ruckig's control interface.
+    """
+    n = limits.n
+    reused = _CALCULATORS.inputs.get(n)
+    if reused is None or reused.limits is not limits:
+        reused = _CALCULATORS.inputs[n] = _Reused(limits)
+    inp, changed = reused.inp, reused.changed
+    inp.current_position = q0.tolist()
+    inp.target_position = q1.tolist()
+    if states is not None:
+        (
+            inp.current_velocity,
+            inp.current_acceleration,
+            inp.target_velocity,
+            inp.target_acceleration,
+        ) = states
+        changed.add("states")
+    elif "states" in changed:
+        rest = [0.0] * n
+        inp.current_velocity = inp.current_acceleration = rest
+        inp.target_velocity = inp.target_acceleration = rest
+        changed.discard("states")
+    if changed or interface is not _POSITION or synchronization is not _TIME:
+        # Identity, cheaper than the binding's equality (see ruckig_input).
+        for name, value, default in (
+            ("control_interface", interface, _POSITION),
+            ("synchronization", synchronization, _TIME),
+        ):
+            if value is not default:
+                setattr(inp, name, value)
+                changed.add(name)
+            elif name in changed:
+                setattr(inp, name, default)
+                changed.discard(name)
+    if minimum_duration is not None:
+        inp.minimum_duration = minimum_duration
+        changed.add("minimum_duration")
+    elif "minimum_duration" in changed:
+        inp.minimum_duration = None
+        changed.discard("minimum_duration")
+    return inp
+
+
 def ruckig_error(exc: Exception, limits: JointLimits) -> Exception:
     """A typed error for an exception raised inside Ruckig, its DoF index named as a joint."""
     text = str(exc).strip().removeprefix("[ruckig]").strip()
@@ -90,7 +186,7 @@ def ruckig_error(exc: Exception, limits: JointLimits) -> Exception:
 
 
 class _Calculators(threading.local):
-    """Ruckig calculators by joint count, one set per thread.
+    """Ruckig calculators (and reused inputs) by joint count, one set per thread.
 
     Building a calculator costs about as much as an offline calculation, which starts
     afresh from its input every time (results do not depend on earlier calls); a
@@ -99,6 +195,7 @@ class _Calculators(threading.local):
 
     def __init__(self) -> None:
         self.by_dof: dict[int, ruckig.Ruckig] = {}
+        self.inputs: dict[int, _Reused] = {}
 
 
 _CALCULATORS = _Calculators()

@@ -16,7 +16,6 @@ acceleration, jerk) from its exact extrema, as the checker judges it (its round-
 from __future__ import annotations
 
 import math
-import operator
 from typing import Any
 
 import numpy as np
@@ -130,9 +129,9 @@ def ends_breach(
     """
     floats = limits.floats
     lower, upper = floats["lower"], floats["upper"]
-    for ends in (start.tolist(), goal.tolist()):
-        # map over float tuples: seven comparisons without a Python-level loop.
-        if not (all(map(operator.le, lower, ends)) and all(map(operator.le, ends, upper))):
+    # A loop over Python floats: for a few joints cheaper than NumPy calls.
+    for p0, p1, low, high in zip(start.tolist(), goal.tolist(), lower, upper, strict=True):
+        if not (low <= p0 <= high and low <= p1 <= high):
             return _exact_position_breach(native, limits)
     return None
 
@@ -185,8 +184,10 @@ def limit_violations(
     # Position: both bounds. Times of the extremes are looked up only for a breach.
     taus = np.stack([zero, h, first, second])  # (m, K, n)
     values = c0 + taus * (c1 + taus * (c2 + taus * c3))
-    slack = round_off(limits.upper - limits.lower, c1 + taus * (2 * c2 + 3 * taus * c3), duration)
     low, high = values.min(axis=(0, 1)), values.max(axis=(0, 1))
+    if _within_least_slack(c, low, high, vertex, h, zero, limits):
+        return errors
+    slack = round_off(limits.upper - limits.lower, c1 + taus * (2 * c2 + 3 * taus * c3), duration)
     below = (limits.lower - values - slack).max(axis=(0, 1)) > 0.0
     above = (values - limits.upper - slack).max(axis=(0, 1)) > 0.0
     for j in np.flatnonzero(below).tolist():
@@ -226,6 +227,48 @@ def limit_violations(
                 )
             )
     return errors
+
+
+def _within_least_slack(
+    c: FloatArray,
+    low: FloatArray,
+    high: FloatArray,
+    vertex: FloatArray,
+    h: FloatArray,
+    zero: FloatArray,
+    limits: JointLimits,
+) -> bool:
+    """Whether every candidate peak is within its limit plus the least round-off allowed.
+
+    :func:`limit_violations` allows ``round_off(scale, slope)``, which is never below
+    ``RELATIVE_SLACK * scale + ABSOLUTE_SLACK`` (the slope term is >= 0, and rounding is
+    monotone), so peaks within that allowance are no breach whatever the slopes; this
+    skips the slopes of the common case, a move that meets its limits (Ruckig's peaks sit
+    on them, a few ulps either way). False means: decide on the full rule.
+
+    Args:
+        c: Coefficients, shape (K, 4, n).
+        low: Lowest candidate position of each joint, shape (n,).
+        high: Highest candidate position of each joint, shape (n,).
+        vertex: Local time of each segment's velocity extremum (or 0), shape (K, n).
+        h: Segment lengths, shape (K, n).
+        zero: Zeros, shape (K, n).
+        limits: The limits.
+    """
+    c1, c2, c3 = c[:, 1, :], c[:, 2, :], c[:, 3, :]
+    spread = RELATIVE_SLACK * (limits.upper - limits.lower) + ABSOLUTE_SLACK
+    if np.any(limits.lower - low > spread) or np.any(high - limits.upper > spread):
+        return False
+    taus = np.stack([zero, h, vertex])
+    for quantity, peak in (
+        ("velocity", np.abs(c1 + taus * (2 * c2 + 3 * taus * c3)).max(axis=(0, 1))),
+        ("acceleration", np.maximum(np.abs(2 * c2), np.abs(2 * c2 + 6 * h * c3)).max(axis=0)),
+        ("jerk", np.abs(6 * c3).max(axis=0)),
+    ):
+        allowed = getattr(limits, quantity)
+        if np.any(peak - allowed > RELATIVE_SLACK * allowed + ABSOLUTE_SLACK):
+            return False
+    return True
 
 
 def _time_of(

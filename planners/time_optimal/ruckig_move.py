@@ -30,7 +30,7 @@ import ruckig
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InfeasibleError, InvalidInputError
-from optraj.planners.time_optimal.ruckig_calculation import calculate, ruckig_input
+from optraj.planners.time_optimal.ruckig_calculation import calculate, reused_input
 from optraj.planners.time_optimal.ruckig_conversion import native_pieces
 from optraj.planners.time_optimal.ruckig_limits import (
     checked_pieces,
@@ -108,16 +108,22 @@ def move_between_states(
         See :func:`state_to_state` and :func:`stop`.
     """
     n = limits.n
-    zeros = np.zeros(n)
-    a0 = zeros if a0 is None else a0
-    a1 = zeros if a1 is None else a1
     # Lists: testing seven floats in Python is cheaper than one NumPy call.
-    states = (v0.tolist(), a0.tolist(), v1.tolist(), a1.tolist())
-    moving = any(any(values) for values in states)
+    rest = [0.0] * n
+    states = (
+        v0.tolist(),
+        rest if a0 is None else a0.tolist(),
+        v1.tolist(),
+        rest if a1 is None else a1.tolist(),
+    )
+    moving = any(states[0]) or any(states[1]) or any(states[2]) or any(states[3])
     if moving:
+        zeros = np.zeros(n)
+        a0 = zeros if a0 is None else a0
+        a1 = zeros if a1 is None else a1
         check_unsynchronised(synchronization, v1, a1)
         check_boundary_states(limits, (v0, a0) if check_limits else None, (v1, a1))
-    inp = ruckig_input(
+    inp = reused_input(
         limits,
         start,
         goal,

@@ -16,6 +16,7 @@ import numpy as np
 import toppra
 import toppra.algorithm
 import toppra.constraint
+import toppra.exceptions
 import toppra.interpolator
 import toppra.parametrizer
 from numpy.typing import ArrayLike, NDArray
@@ -26,6 +27,11 @@ from optraj.planners.time_optimal.toppra_constraints import (
     chord_safe_bound,
     jump_rows,
     normalised_rows,
+)
+from optraj.planners.time_optimal.toppra_passes import (
+    controllable_sets,
+    forward_pass,
+    start_controllable,
 )
 from optraj.planners.time_optimal.toppra_path import GeometricPath, curvature_jumps
 
@@ -81,6 +87,43 @@ class SeidelTOPPRA(toppra.algorithm.TOPPRA):
         self.solver_wrapper = seidel.seidelWrapper(
             self.constraints, self.path, self.gridpoints, solve_lp1d=True
         )
+
+    def compute_parameterization(
+        self, sd_start: float, sd_end: float, return_data: bool = False
+    ) -> tuple[Any, ...]:
+        """The parametrisation of toppra's own, its two passes run by :mod:`.toppra_passes`.
+
+        The same results, return codes and ``problem_data`` (``K``, ``sd_vec``,
+        ``sdd_vec``, ``return_code``) as toppra's, with less work around each stage's solve.
+
+        Returns:
+            (sdd, sd, v) and, with ``return_data``, the controllable sets K; (None, None,
+            None[, K]) when the problem is not controllable.
+        """
+        if seidel is None:  # pragma: no cover - depends on the installed toppra
+            return tuple(super().compute_parameterization(sd_start, sd_end, return_data))
+        if sd_end < 0 or sd_start < 0:
+            raise toppra.exceptions.BadInputVelocities(
+                f"Negative path velocities: path velocities must be positive: "
+                f"({sd_start}, {sd_end})"
+            )
+        data = self._problem_data
+        codes = toppra.algorithm.ParameterizationReturnCode
+        solver = self.solver_wrapper
+        sets = controllable_sets(solver, self._N, sd_end)
+        controllable = not np.isnan(sets).any()
+        if controllable:
+            data.K = sets
+            controllable = start_controllable(sets, sd_start)
+        if not controllable:
+            data.return_code = codes.FailUncontrollable
+            return (None, None, None, sets) if return_data else (None, None, None)
+        us, xs, extra = forward_pass(solver, sets, sd_start)
+        sd, sdd = np.sqrt(xs), np.copy(us)
+        data.sd_vec = sd
+        data.sdd_vec = sdd
+        data.return_code = codes.ErrUnknown if np.isnan(sd).any() else codes.Ok
+        return (sdd, sd, extra, sets) if return_data else (sdd, sd, extra)
 
 
 class PolynomialPath(toppra.interpolator.AbstractGeometricPath):

@@ -11,6 +11,7 @@ from optraj.validation import (
     as_batch,
     as_flag,
     as_fraction,
+    as_number,
     as_positive,
     as_transform,
     as_vector,
@@ -167,3 +168,43 @@ def test_ndim_of_reads_ragged_lists_as_minus_one():
     assert ndim_of([[1.0, 2.0], [3.0]]) == -1
     with pytest.raises(InvalidInputError, match="numeric array"):
         as_array([[1.0, 2.0], [3.0]], "gains", (None,))
+
+
+def _outcome(check, *args):
+    """A check's result, or the type and message of the error it raises."""
+    try:
+        return check(*args)
+    except InvalidInputError as error:
+        return (type(error), str(error), error.name)
+
+
+def test_as_vector_fast_path_equals_as_array_on_seeded_random_input():
+    # Float64 arrays and lists of floats take a path of their own; it must give what the
+    # general one gives: the same values in a fresh array, or the same error.
+    rng = np.random.default_rng(3501)
+    for _ in range(300):
+        values = rng.normal(size=int(rng.integers(0, 9))) * 10.0 ** float(rng.integers(-300, 300))
+        if values.size and rng.random() < 0.4:
+            values[rng.integers(values.size)] = rng.choice([np.nan, np.inf, -np.inf])
+        for given in (values, values.tolist(), values[::-1], values[None, :]):
+            for size in (None, values.size, values.size + 1):
+                got = _outcome(as_vector, given, "v", size)
+                want = _outcome(as_array, given, "v", (size,))
+                if isinstance(want, tuple):
+                    assert got == want
+                else:
+                    assert got.dtype == float and got.shape == want.shape
+                    np.testing.assert_array_equal(got, want)
+                    assert not np.shares_memory(got, given)
+
+
+def test_as_number_takes_floats_without_numpy_and_refuses_the_same():
+    rng = np.random.default_rng(3502)
+    samples = [*rng.normal(size=50) * 1e3, np.nan, np.inf, -np.inf, 0.0, -0.0, 1e-6, 86_400.0]
+
+    def check(x):
+        return as_number(x, "t", "s", minimum=0.0, maximum=1e3)
+
+    for value in samples:
+        for given in (float(value), np.float64(value)):
+            assert _outcome(check, given) == _outcome(check, np.array(value))

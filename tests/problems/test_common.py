@@ -69,3 +69,27 @@ def test_normal_pair_completes_a_right_handed_orthonormal_basis():
         basis = np.array([d, first, second])
         np.testing.assert_allclose(basis @ basis.T, np.eye(3), atol=1e-12)
         np.testing.assert_allclose(np.cross(d, first), second, atol=1e-12)
+
+
+def test_joint_state_accepts_and_refuses_as_the_numpy_rule_on_seeded_random_states():
+    # Within-limit states are recognised in Python floats; the verdict must be the NumPy
+    # rule's: excess = max(lower - q, q - upper), or |value| - limit, above 1e-9.
+    limits = get_robot("panda").limits
+    rng = np.random.default_rng(3503)
+    span = limits.upper - limits.lower
+    for _ in range(400):
+        step = rng.choice([0.0, 1e-9, 2e-9, 1e-6]) * rng.choice([-1.0, 1.0], size=limits.n)
+        q = np.where(rng.random(limits.n) < 0.5, limits.upper, limits.lower) + step
+        q = np.where(rng.random(limits.n) < 0.7, limits.lower + span * rng.random(limits.n), q)
+        qd = limits.velocity * rng.choice([0.5, 1.0], size=limits.n) + step
+        qdd = -limits.acceleration * rng.choice([0.5, 1.0], size=limits.n) - step
+        position_out = np.max(np.maximum(limits.lower - q, q - limits.upper)) > 1e-9
+        velocity_out = np.max(np.abs(qd) - limits.velocity) > 1e-9
+        acceleration_out = np.max(np.abs(qdd) - limits.acceleration) > 1e-9
+        try:
+            joint_state(limits, q, qd, qdd, "start")
+        except JointLimitError as error:
+            first = "position" if position_out else "velocity" if velocity_out else "acceleration"
+            assert error.quantity == first
+        else:
+            assert not (position_out or velocity_out or acceleration_out)

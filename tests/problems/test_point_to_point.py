@@ -151,3 +151,55 @@ def test_moves_just_above_the_tolerance_plan_and_pass_the_checker(robot_name, na
 def test_the_tolerance_is_one_constant():
     assert is_still([0.0, 1.0], [STILL_TOLERANCE, 1.0 - STILL_TOLERANCE])
     assert not is_still([0.0, 1.0], [2 * STILL_TOLERANCE, 1.0])
+
+
+def test_is_still_is_the_largest_change_against_the_tolerance_on_seeded_random_pairs():
+    rng = np.random.default_rng(3504)
+    for _ in range(300):
+        start = rng.normal(size=int(rng.integers(1, 9)))
+        change = rng.choice([0.0, 0.5, 1.0, 1.5, 1e6], size=start.size) * STILL_TOLERANCE
+        goal = start + change * rng.choice([-1.0, 1.0], size=start.size)
+        if rng.random() < 0.1:
+            goal[0] = np.nan
+        wanted = float(np.max(np.abs(goal - start), initial=0.0)) <= STILL_TOLERANCE
+        assert is_still(start, goal) == wanted
+        assert is_still(start.tolist(), goal.tolist()) == wanted
+
+
+def _construction(*args, **kwargs):
+    """A PointToPoint's validated fields, or the type, message and name of its error."""
+    try:
+        problem = PointToPoint(*args, **kwargs)
+    except (InvalidInputError, JointLimitError) as error:
+        return type(error), str(error), getattr(error, "name", None)
+    fields = ("q_start", "q_goal", "qd_start", "qd_goal", "qdd_start", "qdd_goal")
+    return [None if getattr(problem, f) is None else getattr(problem, f).tolist() for f in fields]
+
+
+def test_float_arrays_and_lists_give_the_same_problem_or_error_on_seeded_random_states():
+    # Float64 arrays within the limits take a path of their own, lists the general checks.
+    robot = get_robot("panda")
+    limits = robot.limits
+    rng = np.random.default_rng(3505)
+    span = limits.upper - limits.lower
+
+    def near(bound):
+        step = rng.choice([0.0, 1e-9, 2e-9, 1e-3], size=limits.n) * rng.choice([-1, 1], limits.n)
+        return np.where(
+            rng.random(limits.n) < 0.8, bound * rng.uniform(-1, 1, limits.n), bound + step
+        )
+
+    for _ in range(300):
+        states = {
+            "q_start": limits.lower + span * rng.uniform(-0.001, 1.001, limits.n),
+            "q_goal": limits.lower + span * rng.uniform(-0.001, 1.001, limits.n),
+            "qd_start": near(limits.velocity) if rng.random() < 0.5 else None,
+            "qd_goal": near(limits.velocity) if rng.random() < 0.5 else None,
+            "qdd_start": near(limits.acceleration) if rng.random() < 0.5 else None,
+            "qdd_goal": near(limits.acceleration) if rng.random() < 0.5 else None,
+        }
+        if rng.random() < 0.1:
+            states["q_goal"][rng.integers(limits.n)] = np.nan
+        arrays = _construction(robot, **states)
+        lists = {k: None if v is None else v.tolist() for k, v in states.items()}
+        assert arrays == _construction(robot, **lists)

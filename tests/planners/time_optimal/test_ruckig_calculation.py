@@ -12,9 +12,16 @@ from conftest import get_robot
 
 from optraj import problems
 from optraj.errors import InfeasibleError, SolverError
-from optraj.planners.time_optimal.ruckig_calculation import _calculator, ruckig_error
+from optraj.planners.time_optimal.ruckig_calculation import (
+    _calculator,
+    calculate,
+    reused_input,
+    ruckig_error,
+    ruckig_input,
+)
 from optraj.planners.time_optimal.ruckig_move import state_to_state
 from optraj.planners.time_optimal.ruckig_planner import Ruckig
+from optraj.planners.time_optimal.ruckig_validation import SYNCHRONIZATIONS
 
 
 def test_each_thread_has_its_own_ruckig_calculator():
@@ -59,3 +66,37 @@ def test_a_duration_beyond_ruckigs_range_is_a_solver_error():
     # binding has no name for.
     with pytest.raises(SolverError, match="-101"):
         state_to_state(start, None, None, goal, None, None, limits, minimum_duration=1e4)
+
+
+def _native_samples(native):
+    """A Ruckig result's duration and its states at 17 instants, as floats."""
+    times = np.linspace(0.0, native.duration, 17)
+    return native.duration, [native.at_time(float(t)) for t in times]
+
+
+def test_a_reused_input_gives_what_a_new_input_gives_over_a_seeded_random_sequence():
+    # The reused input must forget what the previous move set: boundary states, options,
+    # a minimum duration, and the limits of another limits object.
+    robot = get_robot("panda")
+    choices = [robot.limits, robot.limits.scaled(0.5), robot.limits.scaled(0.8, ("jerk",))]
+    rng = np.random.default_rng(3509)
+    synchronizations = list(SYNCHRONIZATIONS.values())
+    for _ in range(120):
+        limits = choices[int(rng.integers(len(choices)))]
+        q0, q1 = limits.sample(rng, 2)
+        states = None
+        if rng.random() < 0.5:
+            states = tuple(
+                (0.1 * limits.velocity * rng.uniform(-1, 1, limits.n)).tolist() for _ in range(4)
+            )
+            states = (states[0], [0.0] * limits.n, states[2], [0.0] * limits.n)
+        options = {
+            "synchronization": synchronizations[int(rng.integers(3))],  # not "none"
+            "minimum_duration": None if rng.random() < 0.6 else float(rng.uniform(0.5, 5.0)),
+            "interface": ruckig.ControlInterface.Velocity
+            if rng.random() < 0.2
+            else ruckig.ControlInterface.Position,
+        }
+        fresh = calculate(ruckig_input(limits, q0, q1, states, **options), limits)
+        reused = calculate(reused_input(limits, q0, q1, states, **options), limits)
+        assert _native_samples(reused) == _native_samples(fresh)

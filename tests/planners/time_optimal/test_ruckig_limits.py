@@ -12,6 +12,7 @@ from conftest import get_robot
 from ruckig_support import inner, random_limits
 
 from optraj.errors import InfeasibleError, SolverError
+from optraj.planners.time_optimal import ruckig_limits
 from optraj.planners.time_optimal.ruckig_conversion import native_pieces
 from optraj.planners.time_optimal.ruckig_limits import (
     checked_pieces,
@@ -137,3 +138,27 @@ def test_a_rest_to_rest_move_from_just_outside_a_short_range_raises_when_planned
     with pytest.raises(InfeasibleError, match=r"'J1'.*below its lower position limit") as info:
         state_to_state(q0, None, None, q0 + np.array([0.05, 0.1, 0.1, 0.1]), None, None, limits)
     assert info.value.limit == "position"
+
+
+def test_the_least_slack_shortcut_lists_what_the_full_rule_lists_on_seeded_random_moves(
+    monkeypatch,
+):
+    # Moves that meet their limits (Ruckig's own), and the same polynomials scaled by a
+    # hair or more past them: the shortcut must not hide a breach the full rule finds.
+    limits = get_robot("panda").limits
+    rng = np.random.default_rng(3511)
+    cases = []
+    for _ in range(30):
+        q0, q1 = limits.sample(rng, 2)
+        qd = 0.3 * limits.velocity * rng.uniform(-1, 1, limits.n)
+        traj = state_to_state(q0, qd, None, q1, None, None, limits, check_limits=False)
+        knots, coefficients = native_pieces(traj.metadata["native"])
+        for scale in (1.0, 1.0 + 1e-12, 1.0 + 2e-9, 1.01):
+            cases.append((knots, coefficients * scale))
+    found = []
+    for knots, coefficients in cases:
+        found.append([str(e) for e in limit_violations(knots, coefficients, limits)])
+    monkeypatch.setattr(ruckig_limits, "_within_least_slack", lambda *args: False)
+    full = [[str(e) for e in limit_violations(k, c, limits)] for k, c in cases]
+    assert found == full
+    assert any(found) and not all(found)  # both kinds of case occurred

@@ -9,10 +9,12 @@ from conftest import get_robot
 
 from optraj import problems
 from optraj.errors import InfeasibleError, InvalidInputError, JointLimitError, UnknownNameError
+from optraj.planners.checker import ABSOLUTE_SLACK, RELATIVE_SLACK
 from optraj.planners.time_optimal.ruckig_conversion import native_to_trajectory
 from optraj.planners.time_optimal.ruckig_move import state_to_state, stop
 from optraj.planners.time_optimal.ruckig_online import OnlineRuckig
 from optraj.planners.time_optimal.ruckig_planner import Ruckig
+from optraj.planners.time_optimal.ruckig_validation import check_state
 
 
 def test_unsynchronised_moves_need_a_target_at_rest():
@@ -119,3 +121,35 @@ def test_bad_options_raise_typed_errors():
     names = [f"joint {j}" for j in range(7)]
     named = state_to_state(start, None, None, goal, None, None, limits, joint_names=names)
     assert named.joint_names == tuple(names)
+
+
+def test_check_state_refuses_exactly_what_the_rule_refuses_on_seeded_random_states():
+    # The rule, in NumPy: |qd| and |qdd| within their limits, and the velocity implied
+    # while the acceleration ramps at the jerk limit, qd -/+ qdd |qdd| / (2 j), within the
+    # velocity limit; strictly when arriving, with the checker's slack when leaving.
+    limits = get_robot("panda").limits
+    rng = np.random.default_rng(3510)
+    refused = {True: 0, False: 0}
+    for _ in range(600):
+        arriving = bool(rng.random() < 0.5)
+        qd = limits.velocity * rng.choice([0.3, 0.9, 1.0, 1.0 + 1e-12, 1.1], limits.n)
+        qd *= rng.choice([-1.0, 1.0], limits.n)
+        qdd = np.zeros(limits.n)
+        if rng.random() < 0.6:
+            qdd = limits.acceleration * rng.choice([0.0, 0.5, 1.0, 1.0 + 1e-12], limits.n)
+            qdd *= rng.choice([-1.0, 1.0], limits.n)
+        factor, extra = (1.0, 0.0) if arriving else (1.0 + RELATIVE_SLACK, ABSOLUTE_SLACK)
+        implied = qd - qdd * np.abs(qdd) / (2.0 * limits.jerk) * (1.0 if arriving else -1.0)
+        bad = (
+            np.any(np.abs(qd) > limits.velocity * factor + extra)
+            or np.any(np.abs(qdd) > limits.acceleration * factor + extra)
+            or np.any(np.abs(implied) > limits.velocity * factor + extra)
+        )
+        try:
+            check_state(qd, qdd, limits, "target" if arriving else "start", arriving=arriving)
+        except InfeasibleError:
+            assert bad
+            refused[bool(qdd.any())] += 1
+        else:
+            assert not bad
+    assert min(refused.values()) > 20  # both ways through the check were refused often
