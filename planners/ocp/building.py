@@ -11,7 +11,9 @@ from numpy.typing import NDArray
 from optraj.errors import (
     InvalidInputError,
 )
+from optraj.planners.ocp.guesses import switch_times
 from optraj.planners.ocp.options import (
+    CLOSE_MU_INIT,
     MAX_PHASE_INTERVALS,
     MAX_STRIKE_INTERVALS,
     MIN_INTERVAL,
@@ -83,8 +85,13 @@ def phase_grids(planner: OptimalControl, spec: Spec, strike_scale: int) -> tuple
     return tuple(grids)
 
 
-def nlp_options(planner: OptimalControl) -> tuple[tuple[str, Any], ...]:
-    """The solver options of ``planner`` (its defaults overridden by ``solver_options``), frozen."""
+def nlp_options(planner: OptimalControl, close: bool = False) -> tuple[tuple[str, Any], ...]:
+    """The solver options of ``planner`` (its defaults overridden by ``solver_options``), frozen.
+
+    ``close``: the first point is close to the solution (a move's first nodes on its jerk
+    switches, :func:`planners.ocp.guesses.switch_times`), so IPOPT's barrier starts at
+    :data:`CLOSE_MU_INIT`.
+    """
     options: dict[str, Any] = {"print_time": False}
     if planner.solver == "ipopt":
         options.update(
@@ -111,6 +118,8 @@ def nlp_options(planner: OptimalControl) -> tuple[tuple[str, Any], ...]:
                 "ipopt.expect_infeasible_problem": "yes",
             }
         )
+        if close:
+            options["ipopt.mu_init"] = CLOSE_MU_INIT
     elif planner.solver == "sqpmethod":
         options.update(
             {
@@ -185,7 +194,7 @@ def build_problem(
         margin=planner.margin,
         torque_margin=0.0 if linear else margin,  # linear rows: in their coefficients
         solver=planner.solver,
-        options=planner._options(),
+        options=planner._options(spec.switch_joint is not None),
     )
     compiled = planner._compile(structure, spec.robot)
     keep = 1.0 - planner.margin
@@ -203,6 +212,8 @@ def build_problem(
             spec, first, structure.torque_nodes, margin if row_margins is None else row_margins
         )
         params["torque"] = torque_linearization(compiled, x0, room)
+    if "anchor" in compiled.parameters.names:
+        params["anchor"] = x0[: compiled.layout.K]
     p = compiled.parameters.vector(**params)
     return OptimalControlProblem(
         problem=problem,
@@ -319,6 +330,24 @@ def initial_point(
             )
         source = warm_start
     layout = compiled.layout
+    x0 = _sampled(source, grids, compiled, _switch_grid(planner, spec, grids, source))
+    kept = {int(node) for node in layout.first_node}
+    if spec.strike is not None:
+        kept.update(spec.strike.nodes(layout.first_node))
+    return np.clip(integrable(x0, layout, compiled.scale, sorted(kept)), lbx, ubx), None, None
+
+
+def _sampled(
+    source: Trajectory,
+    grids: tuple[PhaseGrid, ...],
+    compiled: CompiledNLP,
+    switches: FloatArray | None,
+) -> FloatArray:
+    """A point of ``source``'s states at the nodes (scaled), its grid even in each phase.
+
+    ``switches``: the node times [s] of a one-phase grid instead (:func:`_switch_grid`).
+    """
+    layout = compiled.layout
     mid, half, vel, acc, _ = compiled.scale
     x0 = np.zeros(layout.size)
     for i, grid in enumerate(grids):
@@ -326,6 +355,9 @@ def initial_point(
         duration = window.duration if grid.duration is None else grid.duration
         x0[layout.first_node[i] : layout.first_node[i + 1]] = duration / grid.intervals
         times = np.linspace(window.t_start, window.t_end, grid.intervals + 1)
+        if switches is not None:
+            x0[: layout.K] = np.diff(switches)
+            times = switches
         sample = source.sample(times)
         first = int(layout.first_node[i])
         for j in range(grid.intervals + 1):
@@ -333,7 +365,25 @@ def initial_point(
             x0[layout.x_index(node, 0)] = (sample.q[j] - mid) / half
             x0[layout.x_index(node, 1)] = sample.qd[j] / vel
             x0[layout.x_index(node, 2)] = sample.qdd[j] / acc
-    kept = {int(node) for node in layout.first_node}
-    if spec.strike is not None:
-        kept.update(spec.strike.nodes(layout.first_node))
-    return np.clip(integrable(x0, layout, compiled.scale, sorted(kept)), lbx, ubx), None, None
+    return x0
+
+
+def _switch_grid(
+    planner: OptimalControl, spec: Spec, grids: tuple[PhaseGrid, ...], source: Trajectory
+) -> FloatArray | None:
+    """The first nodes' times [s] of a free one-phase move guessed by Ruckig, else None.
+
+    On the jerk switches of :attr:`Spec.switch_joint` (:func:`switch_times`); None for
+    any other first point (a warm start, several phases, a fixed duration).
+    """
+    if (
+        spec.switch_joint is None
+        or source is not spec.guess
+        or len(grids) != 1
+        or grids[0].duration is not None
+    ):
+        return None
+    times = switch_times(spec.guess, spec.switch_joint, grids[0].intervals, planner.max_interval)
+    if times is None or times[-1] > grids[0].upper:
+        return None
+    return times

@@ -57,6 +57,7 @@ from optraj.planners.ocp.formulation import (
     check_strike_start_held,
     checked_warm_start,
     held_spec,
+    keep_switch_grid,
     problem_spec,
 )
 from optraj.planners.ocp.options import (
@@ -404,6 +405,7 @@ class OptimalControl(CompiledCache):
                 for d, phase in zip(spec.durations, timed.phases, strict=True)
             )
             spec.guess = timed
+            spec.switch_joint = None  # fixed durations: an even grid, as for any other
             traj = self._rounds(problem, spec, weights, None)
             return with_totals(traj, [timed, traj])
         return self._rounds(problem, spec, weights, warm_start)
@@ -418,6 +420,7 @@ class OptimalControl(CompiledCache):
         """
         warm_start = checked_warm_start(problem, warm_start)
         spec = self._spec(problem)
+        keep_switch_grid(spec, warm_start)
         return self._build(problem, spec, self._weights(spec), (), None, warm_start)
 
     def solve(self, built: OptimalControlProblem) -> Trajectory:

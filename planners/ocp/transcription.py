@@ -3,8 +3,8 @@ r"""Multiple-shooting transcription of a multi-phase joint motion into a CasADi 
 The motion is split into phases (e.g. approach, strike, stop), phase :math:`p` into
 :math:`N_p` intervals. Each interval length :math:`h_k` is a decision variable: fixed by its
 bounds in a phase of fixed duration, free in a free phase (so that jerk switches can fall on
-nodes; a small cost keeps neighbours alike, or with ``free_grid=False`` rows make them
-equal). The state at every node is
+nodes; a small cost keeps neighbours alike, or each near its length in the first point, or
+with ``free_grid=False`` rows make them equal). The state at every node is
 :math:`x_k = (q_k, \dot q_k, \ddot q_k)`; the jerk :math:`u_k` is constant on interval
 :math:`k`, so the motion is a cubic on each interval and a step is the exact
 triple-integrator map
@@ -263,15 +263,29 @@ class _Nodes:
 
 
 def _grid_terms(
-    rows: Rows, structure: Structure, layout: Layout, h: list[ca.SX], time_scale: ca.SX
+    rows: Rows,
+    structure: Structure,
+    layout: Layout,
+    h: list[ca.SX],
+    params: dict[str, ca.SX],
 ) -> ca.SX:
-    """The time and grid cost terms; uniform-grid rows when a free grid is not allowed."""
+    """The time and grid cost terms; uniform-grid rows when a free grid is not allowed.
+
+    The grid term either keeps neighbouring intervals of a free phase alike (weight
+    ``grid``) or keeps each near its length in the first point, the parameter ``anchor``
+    [s] (weight ``anchor``: a first point whose nodes already sit on the jerk switches of
+    the move's slowest joint, :func:`planners.ocp.guesses.switch_times`). The anchored term
+    is convex in the interval lengths alone, so the solver's steps stay near that grid.
+    """
     weights = dict(structure.weights)
+    time_scale = params["time_scale"]
     cost = ca.SX(0.0)
     for k in range(layout.K):
         phase = int(layout.phase_of[k])
         if structure.free[phase] and weights.get("time", 0.0):
             cost += weights["time"] * h[k] / time_scale
+        if structure.free[phase] and weights.get("anchor", 0.0):
+            cost += weights["anchor"] * layout.K * ((h[k] - params["anchor"][k]) / time_scale) ** 2
         if structure.free[phase] and k + 1 < layout.K and int(layout.phase_of[k + 1]) == phase:
             if not structure.free_grid:
                 rows.add("uniform grid", h[k + 1] - h[k], 0.0, 0.0)
@@ -381,13 +395,16 @@ def _parameter_layout(structure: Structure) -> ParameterLayout:
     """The named parameters of the NLP of ``structure``, in order.
 
     ``time_scale`` [s] (the objective's divisor, which keeps it about 1), the parameters of
-    each of its task rows, and ``torque`` (the linear torque rows' coefficients, none for
-    RNEA rows: :func:`torque_parameter_count`).
+    each of its task rows, ``torque`` (the linear torque rows' coefficients, none for
+    RNEA rows: :func:`torque_parameter_count`) and, with an ``anchor`` weight, ``anchor``
+    (the interval lengths the grid term keeps near [s]).
     """
     entries = [("time_scale", 1)]
     for task in structure.tasks:
         entries.extend(task.parameters)
     entries.append(("torque", torque_parameter_count(structure)))
+    if dict(structure.weights).get("anchor", 0.0):
+        entries.append(("anchor", sum(structure.intervals)))  # [s], one per interval
     return ParameterLayout(entries)
 
 
@@ -415,7 +432,7 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
     nodes = _Nodes(w, layout, mid, half, vel, acc)
     rows = Rows()
     time_scale = params["time_scale"]
-    cost = _grid_terms(rows, structure, layout, h, time_scale)
+    cost = _grid_terms(rows, structure, layout, h, params)
     rnea = symbolic.rnea()
     cost = _interval_terms(rows, structure, nodes, h, (jerk, effort, time_scale), rnea, cost)
     task = TaskContext(symbolic, structure.tool_frame, layout, h, params, nodes.state)
