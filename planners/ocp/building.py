@@ -11,6 +11,7 @@ from numpy.typing import NDArray
 from optraj.errors import (
     InvalidInputError,
 )
+from optraj.planners.compiled_cache import ProcessCache
 from optraj.planners.ocp.guesses import switch_times
 from optraj.planners.ocp.options import (
     CLOSE_MU_INIT,
@@ -49,6 +50,12 @@ if TYPE_CHECKING:
     from optraj.planners.ocp.optimal_control import OptimalControl
 
 FloatArray = NDArray[np.float64]
+
+#: Compiled NLPs by structure, shared by every planner object of the process: building one
+#: takes longer than most solves with it. The least recently used is dropped past the size.
+COMPILED: ProcessCache[CompiledNLP] = ProcessCache(64)
+#: Symbolic robot models by robot fingerprint, shared the same way.
+MODELS: ProcessCache[SymbolicModel] = ProcessCache(16)
 
 
 def phase_grids(planner: OptimalControl, spec: Spec, strike_scale: int) -> tuple[PhaseGrid, ...]:
@@ -135,24 +142,28 @@ def nlp_options(planner: OptimalControl, close: bool = False) -> tuple[tuple[str
 
 
 def compiled_nlp(planner: OptimalControl, structure: Structure, robot: Robot) -> CompiledNLP:
-    """The compiled NLP of ``structure`` for ``robot``, from the planner's cache or built once."""
+    """The compiled NLP of ``structure`` for ``robot``, built once per process.
+
+    From the planner's own cache, else from the process's (:data:`COMPILED`, which every
+    planner object shares), else built and kept in both.
+    """
     with planner._lock:
         compiled = planner._compiled.get(structure)
         if compiled is not None:
             return compiled
-        model = planner._models.get(robot.fingerprint)
-        if model is None:
-            model = planner._models[robot.fingerprint] = SymbolicModel(robot)
-    try:
-        compiled = compile_nlp(structure, model)
-    except RuntimeError as error:
-        if not planner.solver_options:
-            raise
-        raise InvalidInputError(
-            f"solver_options {planner.solver_options!r} were refused by the {planner.solver} "
-            f"plugin: {casadi_reason(str(error))}",
-            name="solver_options",
-        ) from error
+    compiled = COMPILED.get(structure)
+    if compiled is None:
+        model = MODELS.get_or_build(robot.fingerprint, lambda: SymbolicModel(robot))
+        try:
+            compiled = COMPILED.get_or_build(structure, lambda: compile_nlp(structure, model))
+        except RuntimeError as error:
+            if not planner.solver_options:
+                raise
+            raise InvalidInputError(
+                f"solver_options {planner.solver_options!r} were refused by the "
+                f"{planner.solver} plugin: {casadi_reason(str(error))}",
+                name="solver_options",
+            ) from error
     with planner._lock:
         return planner._compiled.setdefault(structure, compiled)
 

@@ -133,7 +133,6 @@ from optraj.planners.strike.contact import (
 from optraj.planners.strike.window_check import WindowCheck
 from optraj.planners.trajectory import Trajectory
 from optraj.problems import PoolStrike
-from optraj.robots import SymbolicModel
 from optraj.validation import (
     MAX_DURATION,
     as_choice,
@@ -232,7 +231,7 @@ class OptimalControl(CompiledCache):
             :data:`BUDGET_SPENT`.
     """
 
-    caches = ("_compiled", "_models")
+    caches = ("_compiled",)
 
     _weights = round_weights
     _rounds = solve_rounds
@@ -307,7 +306,6 @@ class OptimalControl(CompiledCache):
         self.reuse_contact = as_flag(reuse_contact, "reuse_contact")
         self.time_budget = None if time_budget is None else as_duration(time_budget, "time_budget")
         self._compiled: dict[Structure, CompiledNLP] = {}
-        self._models: dict[str, SymbolicModel] = {}
         self._lock = threading.Lock()
         self._window_check = WindowCheck()
 

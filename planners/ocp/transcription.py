@@ -51,6 +51,7 @@ from __future__ import annotations
 
 import functools
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -300,12 +301,13 @@ def _interval_terms(
     nodes: _Nodes,
     h: list[ca.SX],
     scales: tuple[FloatArray, FloatArray, ca.SX],
-    rnea: ca.Function,
+    rnea: Callable[[], ca.Function],
     cost: ca.SX,
 ) -> ca.SX:
     """Each interval's dynamics and between-node rows, and ``cost`` plus its integral terms.
 
-    ``scales`` holds the jerk and effort limits and the objective's time scale.
+    ``scales`` holds the jerk and effort limits and the objective's time scale; ``rnea``
+    returns the symbolic inverse dynamics (built on first use: only the effort term needs it).
     """
     jerk, effort, time_scale = scales
     layout, mid, half, vel, acc = nodes.layout, nodes.mid, nodes.half, nodes.vel, nodes.acc
@@ -352,7 +354,7 @@ def _interval_terms(
         if weights.get("posture", 0.0):
             cost += weights["posture"] * hk * ca.sumsqr((q0 - mid) / half) / (n * time_scale)
         if weights.get("effort", 0.0):
-            tau = rnea(q0, v0, a0) / effort
+            tau = rnea()(q0, v0, a0) / effort
             cost += weights["effort"] * hk * ca.sumsqr(tau) / (n * time_scale)
     return cost
 
@@ -362,12 +364,13 @@ def _torque_terms(
     structure: Structure,
     nodes: _Nodes,
     coefficients: ca.SX,
-    rnea: ca.Function,
+    rnea: Callable[[], ca.Function],
     effort: FloatArray,
 ) -> ca.Function | None:
     """The torque rows at the structure's torque nodes; the mapped expansion of linear ones.
 
-    The linear rows' coefficients are ``coefficients``, the parameter ``torque``.
+    The linear rows' coefficients are ``coefficients``, the parameter ``torque``; ``rnea``
+    returns the symbolic inverse dynamics, called only when there are torque nodes.
     """
     n = nodes.layout.n
     expansion = None
@@ -380,12 +383,12 @@ def _torque_terms(
             rows.add("torque", row, -1.0, 1.0, joints=n, at=node)
         if structure.torque_nodes:
             z = ca.SX.sym("z", 3 * n)
-            t = rnea(*nodes.physical(z)) / effort
+            t = rnea()(*nodes.physical(z)) / effort
             single = ca.Function("torque_expansion", [z], [t, ca.jacobian(t, z)])
             expansion = single.map(len(structure.torque_nodes))
     else:
         for node in structure.torque_nodes:
-            tau = rnea(*nodes.state(node)) / effort
+            tau = rnea()(*nodes.state(node)) / effort
             limit = 1.0 - structure.torque_margin
             rows.add("torque", tau, -limit, limit, joints=n, at=node)
     return expansion
@@ -433,7 +436,8 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
     rows = Rows()
     time_scale = params["time_scale"]
     cost = _grid_terms(rows, structure, layout, h, params)
-    rnea = symbolic.rnea()
+    # The symbolic RNEA (the costliest expression to build) only when a term needs it.
+    rnea = symbolic.rnea
     cost = _interval_terms(rows, structure, nodes, h, (jerk, effort, time_scale), rnea, cost)
     task = TaskContext(symbolic, structure.tool_frame, layout, h, params, nodes.state)
     for task_rows in structure.tasks:

@@ -12,6 +12,8 @@ from ocp_support import paddle_move
 
 from optraj import problems
 from optraj.planners import check
+from optraj.planners.compiled_cache import ProcessCache
+from optraj.planners.ocp.building import COMPILED
 from optraj.planners.ocp.optimal_control import (
     OptimalControl,
 )
@@ -37,3 +39,36 @@ def test_planner_pickles_without_its_compiled_solvers():
     copy = pickle.loads(pickle.dumps(planner))
     again = copy.plan(problem)
     np.testing.assert_allclose(again.breakpoints, first.breakpoints, atol=1e-9)
+
+
+def test_planner_objects_share_the_compiled_nlps_of_the_process():
+    robot = get_robot("youbot")
+    problem = problems.PointToPoint(robot, robot.home, robot.home + 0.2)
+    first = OptimalControl("time").build(problem)
+    other = OptimalControl("time").build(problem)
+    assert other.compiled is first.compiled  # built once, by the first object
+    assert COMPILED.get(first.compiled.structure) is first.compiled
+    # Different solver options shape a different solver.
+    tighter = OptimalControl("time", tolerance=1e-7).build(problem)
+    assert tighter.compiled is not first.compiled
+
+
+def test_a_process_cache_keeps_the_most_recently_used_entries():
+    built: list[str] = []
+
+    def build(key: str):
+        def make() -> str:
+            built.append(key)
+            return key.upper()
+
+        return make
+
+    cache: ProcessCache[str] = ProcessCache(2)
+    assert cache.get_or_build("a", build("a")) == "A"
+    assert cache.get_or_build("b", build("b")) == "B"
+    assert cache.get_or_build("a", build("a")) == "A"  # kept: not built again
+    assert cache.get_or_build("c", build("c")) == "C"  # drops "b", the least recently used
+    assert len(cache) == 2 and cache.get("b") is None and cache.get("a") == "A"
+    assert built == ["a", "b", "c"]
+    cache.clear()
+    assert len(cache) == 0
