@@ -240,15 +240,14 @@ class _Nodes:
 
     w: ca.SX
     layout: Layout
-    mid: FloatArray
-    half: FloatArray
-    vel: FloatArray
-    acc: FloatArray
+    mid: ca.DM
+    half: ca.DM
+    vel: ca.DM
+    acc: ca.DM
 
     def physical(self, z: ca.SX) -> tuple[ca.SX, ca.SX, ca.SX]:
         """(q, qd, qdd) of a scaled node state ``z = (zq, zv, za)``."""
         n = self.layout.n
-        # SX, whatever NumPy's stubs say: NumPy defers to CasADi's operators.
         q: Any = self.mid + self.half * z[:n]
         qd: Any = self.vel * z[n : 2 * n]
         qdd: Any = self.acc * z[2 * n :]
@@ -300,7 +299,7 @@ def _interval_terms(
     structure: Structure,
     nodes: _Nodes,
     h: list[ca.SX],
-    scales: tuple[FloatArray, FloatArray, ca.SX],
+    scales: tuple[ca.DM, ca.DM, ca.SX],
     rnea: Callable[[], ca.Function],
     cost: ca.SX,
 ) -> ca.SX:
@@ -365,7 +364,7 @@ def _torque_terms(
     nodes: _Nodes,
     coefficients: ca.SX,
     rnea: Callable[[], ca.Function],
-    effort: FloatArray,
+    effort: ca.DM,
 ) -> ca.Function | None:
     """The torque rows at the structure's torque nodes; the mapped expansion of linear ones.
 
@@ -432,17 +431,20 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
     params = parameters.symbols(p)
 
     h = [w[k] for k in range(layout.K)]
-    nodes = _Nodes(w, layout, mid, half, vel, acc)
+    # Constants as CasADi matrices: NumPy arrays would reach each SX operation through
+    # NumPy's operator dispatch, slower by far when the graph is built (same graph).
+    nodes = _Nodes(w, layout, ca.DM(mid), ca.DM(half), ca.DM(vel), ca.DM(acc))
+    jerk_dm, effort_dm = ca.DM(jerk), ca.DM(effort)
     rows = Rows()
     time_scale = params["time_scale"]
     cost = _grid_terms(rows, structure, layout, h, params)
     # The symbolic RNEA (the costliest expression to build) only when a term needs it.
     rnea = symbolic.rnea
-    cost = _interval_terms(rows, structure, nodes, h, (jerk, effort, time_scale), rnea, cost)
+    cost = _interval_terms(rows, structure, nodes, h, (jerk_dm, effort_dm, time_scale), rnea, cost)
     task = TaskContext(symbolic, structure.tool_frame, layout, h, params, nodes.state)
     for task_rows in structure.tasks:
         task_rows.add(rows, task)
-    expansion = _torque_terms(rows, structure, nodes, params["torque"], rnea, effort)
+    expansion = _torque_terms(rows, structure, nodes, params["torque"], rnea, effort_dm)
 
     g = ca.vertcat(*rows.rows)
     compiled = CompiledNLP(
