@@ -1,4 +1,4 @@
-"""First guesses: quintic moves and a pool strike's window along its strike line."""
+"""First guesses: moves, a pool strike's window along its strike line, a free move's first grid."""
 
 from __future__ import annotations
 
