@@ -18,6 +18,7 @@ from optraj.planners.ocp.options import (
     MAX_PHASE_INTERVALS,
     MAX_STRIKE_INTERVALS,
     MIN_INTERVAL,
+    STRIKE_MU_INIT,
 )
 from optraj.planners.ocp.problem import (
     OptimalControlProblem,
@@ -92,12 +93,13 @@ def phase_grids(planner: OptimalControl, spec: Spec, strike_scale: int) -> tuple
     return tuple(grids)
 
 
-def nlp_options(planner: OptimalControl, close: bool = False) -> tuple[tuple[str, Any], ...]:
+def nlp_options(
+    planner: OptimalControl, mu_init: float | None = None
+) -> tuple[tuple[str, Any], ...]:
     """The solver options of ``planner`` (its defaults overridden by ``solver_options``), frozen.
 
-    ``close``: the first point is close to the solution (a move's first nodes on its jerk
-    switches, :func:`planners.ocp.guesses.switch_times`), so IPOPT's barrier starts at
-    :data:`CLOSE_MU_INIT`.
+    ``mu_init``: IPOPT's first barrier parameter when the first point is closer to the
+    solution than IPOPT's own start assumes (:func:`first_barrier`); None for IPOPT's.
     """
     options: dict[str, Any] = {"print_time": False}
     if planner.solver == "ipopt":
@@ -125,8 +127,8 @@ def nlp_options(planner: OptimalControl, close: bool = False) -> tuple[tuple[str
                 "ipopt.expect_infeasible_problem": "yes",
             }
         )
-        if close:
-            options["ipopt.mu_init"] = CLOSE_MU_INIT
+        if mu_init is not None:
+            options["ipopt.mu_init"] = mu_init
     elif planner.solver == "sqpmethod":
         options.update(
             {
@@ -139,6 +141,20 @@ def nlp_options(planner: OptimalControl, close: bool = False) -> tuple[tuple[str
         )
     options.update(planner.solver_options)
     return freeze_options(options)
+
+
+def first_barrier(spec: Spec) -> float | None:
+    """IPOPT's first barrier parameter for ``spec``'s cold solves, or None for IPOPT's own.
+
+    :data:`CLOSE_MU_INIT` for a free move whose first nodes sit on its jerk switches,
+    :data:`STRIKE_MU_INIT` for a pool strike (warm solves start from the tolerance's, see
+    :meth:`planners.ocp.transcription.CompiledNLP.warm`).
+    """
+    if spec.switch_joint is not None:
+        return CLOSE_MU_INIT
+    if spec.strike is not None:
+        return STRIKE_MU_INIT
+    return None
 
 
 def compiled_nlp(planner: OptimalControl, structure: Structure, robot: Robot) -> CompiledNLP:
@@ -205,7 +221,7 @@ def build_problem(
         margin=planner.margin,
         torque_margin=0.0 if linear else margin,  # linear rows: in their coefficients
         solver=planner.solver,
-        options=planner._options(spec.switch_joint is not None),
+        options=planner._options(first_barrier(spec)),
     )
     compiled = planner._compile(structure, spec.robot)
     keep = 1.0 - planner.margin

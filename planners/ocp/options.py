@@ -55,6 +55,10 @@ ANCHOR_WEIGHT = 1e-2
 #: is close to the solution, which IPOPT's own start (0.1) would push far into the interior
 #: before the barrier comes down again.
 CLOSE_MU_INIT = 1e-6
+#: The same in a cold solve of a pool strike [-]: its first point (the strike line by IK, the
+#: approach and stop by Ruckig) is nearer the solution than IPOPT's own start assumes, though
+#: less so than a move's on its jerk switches.
+STRIKE_MU_INIT = 1e-4
 #: Shortest interval of a free phase [s].
 MIN_INTERVAL = 1e-4
 #: Most intervals of a strike phase after refinement.
