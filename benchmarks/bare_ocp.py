@@ -15,13 +15,16 @@ First guess: ``T`` the slowest joint's own rest-to-rest minimum time under its v
 acceleration limits (a trapezoidal or triangular velocity profile, a lower bound of the
 optimum), positions on the straight line, velocities and accelerations zero.
 
-Usage (a quick look at one seeded move)::
+Usage (OptimalControl("time") and this OCP on issue 35's seeded Panda moves, interleaved:
+time ratio, IPOPT iterations, motion time over the lower bound, first-plan ratios)::
 
-    python benchmarks/bare_ocp.py
+    python benchmarks/bare_ocp.py [--moves 16] [--repeats 5]
 """
 
 from __future__ import annotations
 
+import argparse
+import statistics
 import time
 from typing import NamedTuple
 
@@ -29,7 +32,9 @@ import casadi as ca
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from optraj import planners, problems, robots
 from optraj.errors import InvalidInputError
+from optraj.planners.time_optimal.lower_bound import lower_bound
 
 FloatArray = NDArray[np.float64]
 
@@ -161,20 +166,63 @@ class BareMinTime:
         )
 
 
-def main() -> None:
-    """Solve the first seeded Panda move of issue 35 and print it."""
-    from optraj import robots
-
-    limits = robots.load("panda").limits
+def issue35_moves(count: int = 16) -> tuple[robots.Robot, FloatArray, FloatArray]:
+    """The Panda and the seeded rest-to-rest moves of issue 35: (robot, starts, goals)."""
+    robot = robots.load("panda")
+    limits = robot.limits
     rng = np.random.default_rng(35)
     span = limits.upper - limits.lower
-    q0 = limits.lower + span * rng.uniform(0.1, 0.9, limits.n)
-    q1 = limits.lower + span * rng.uniform(0.1, 0.9, limits.n)
+    starts = limits.lower + span * rng.uniform(0.1, 0.9, (count, limits.n))
+    goals = limits.lower + span * rng.uniform(0.1, 0.9, (count, limits.n))
+    return robot, starts, goals
+
+
+def main() -> None:
+    """OptimalControl("time") against BareMinTime on the same moves, interleaved; prints both."""
+    parser = argparse.ArgumentParser(description=(__doc__ or "").split("\n\n")[0])
+    parser.add_argument("--moves", type=int, default=16, help="moves (issue 35: 16)")
+    parser.add_argument("--repeats", type=int, default=5, help="timed plans per move")
+    args = parser.parse_args()
+    robot, starts, goals = issue35_moves(args.moves)
+    limits = robot.limits
+    moves = [problems.PointToPoint(robot, q0, q1) for q0, q1 in zip(starts, goals, strict=True)]
     bare = BareMinTime(limits.lower, limits.upper, limits.velocity, limits.acceleration)
-    for _ in range(3):
-        solution = bare.solve(q0, q1)
-    bound = np.max(rest_to_rest_time(q1 - q0, limits.velocity, limits.acceleration))
-    print(solution, f"duration / rest-to-rest bound = {solution.duration / bound:.4f}")
+    started = time.perf_counter()
+    planners.OptimalControl("time").plan(moves[0])  # the process's first plan: NLP built
+    first = time.perf_counter() - started
+    planner = planners.OptimalControl("time")
+    for move in moves:  # every grid's NLP built before timing
+        planner.plan(move)
+    ratios, iterations, bare_iterations, bounds, ok, reused, fresh = [], [], [], [], [], [], []
+    for move, q0, q1 in zip(moves, starts, goals, strict=True):
+        ours, theirs, new = [], [], []
+        for _ in range(args.repeats):
+            started = time.perf_counter()
+            traj = planner.plan(move)
+            ours.append(time.perf_counter() - started)
+            theirs.append(bare.solve(q0, q1).seconds)
+            started = time.perf_counter()
+            planners.OptimalControl("time").plan(move)  # a new planner object
+            new.append(time.perf_counter() - started)
+        ratios.append(statistics.median(theirs) / statistics.median(ours))
+        reused.append(statistics.median(ours))
+        fresh.append(statistics.median(new) / statistics.median(ours))
+        iterations.append(traj.metadata["iterations"])
+        bare_iterations.append(bare.solve(q0, q1).iterations)
+        bounds.append(traj.duration / lower_bound(move))
+        ok.append(planners.check(traj, move).ok)
+    print(f"moves {len(moves)}, repeats {args.repeats}, medians over moves")
+    print(f"bare time / OptimalControl time: {statistics.median(ratios):.3f}")
+    print(
+        f"IPOPT iterations: OptimalControl {statistics.median(iterations):g}, "
+        f"bare {statistics.median(bare_iterations):g}"
+    )
+    print(
+        f"motion time / lower bound: median {statistics.median(bounds):.5f}, "
+        f"mean {np.mean(bounds):.5f}, max {max(bounds):.5f}; checker passes {sum(ok)}/{len(ok)}"
+    )
+    print(f"new planner object / reused: {statistics.median(fresh):.3f}")
+    print(f"process's first plan / reused: {first / statistics.median(reused):.2f}")
 
 
 if __name__ == "__main__":

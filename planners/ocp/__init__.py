@@ -49,7 +49,10 @@ Objectives
     by the effort limits), or a mapping of weights, e.g. ``{"time": 1, "jerk": 0.1}``. A
     small ``regularization`` adds the jerk term and, for redundant arms (7 joints or more),
     a posture term that keeps joints near the middle of their ranges (away from the limits;
-    singular configurations are avoided by the contact choice). Without a time term free
+    singular configurations are avoided by the contact choice), and a grid term: one that
+    keeps neighbouring intervals alike, or, for a free move whose first nodes sit on the
+    jerk switches of its slowest joint (:func:`planners.ocp.guesses.switch_times`), one
+    that keeps each interval near its first length. Without a time term free
     durations would grow without bound, so they are first minimised and then fixed at
     ``stretch`` times the minimum.
 
@@ -99,9 +102,11 @@ Verification
 Build and solve apart
     :meth:`OptimalControl.build` returns an :class:`OptimalControlProblem` (the CasADi NLP,
     bounds, parameters and initial guess, open for inspection); :meth:`OptimalControl.solve`
-    solves it. Compiled NLPs are cached per planner instance and structure (robot, limits,
-    intervals, objective), so problems of the same shape reuse one solver; the cache is
-    dropped when the planner is pickled.
+    solves it. Compiled NLPs are cached per structure (robot, limits, intervals, objective,
+    solver options) in the process, shared by every planner object
+    (:data:`planners.ocp.building.COMPILED`), so problems of the same shape reuse one
+    solver and a new planner object plans at once with what an earlier one built; a
+    pickled planner arrives without its own references to them.
 
 Warm starts
     ``plan(problem, warm_start=traj)``: from a previous solution of the same shape, primal

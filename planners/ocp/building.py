@@ -11,10 +11,14 @@ from numpy.typing import NDArray
 from optraj.errors import (
     InvalidInputError,
 )
+from optraj.planners.compiled_cache import ProcessCache
+from optraj.planners.ocp.guesses import switch_times
 from optraj.planners.ocp.options import (
+    CLOSE_MU_INIT,
     MAX_PHASE_INTERVALS,
     MAX_STRIKE_INTERVALS,
     MIN_INTERVAL,
+    STRIKE_MU_INIT,
 )
 from optraj.planners.ocp.problem import (
     OptimalControlProblem,
@@ -47,6 +51,12 @@ if TYPE_CHECKING:
     from optraj.planners.ocp.optimal_control import OptimalControl
 
 FloatArray = NDArray[np.float64]
+
+#: Compiled NLPs by structure, shared by every planner object of the process: building one
+#: takes longer than most solves with it. The least recently used is dropped past the size.
+COMPILED: ProcessCache[CompiledNLP] = ProcessCache(64)
+#: Symbolic robot models by robot fingerprint, shared the same way.
+MODELS: ProcessCache[SymbolicModel] = ProcessCache(16)
 
 
 def phase_grids(planner: OptimalControl, spec: Spec, strike_scale: int) -> tuple[PhaseGrid, ...]:
@@ -83,8 +93,14 @@ def phase_grids(planner: OptimalControl, spec: Spec, strike_scale: int) -> tuple
     return tuple(grids)
 
 
-def nlp_options(planner: OptimalControl) -> tuple[tuple[str, Any], ...]:
-    """The solver options of ``planner`` (its defaults overridden by ``solver_options``), frozen."""
+def nlp_options(
+    planner: OptimalControl, mu_init: float | None = None
+) -> tuple[tuple[str, Any], ...]:
+    """The solver options of ``planner`` (its defaults overridden by ``solver_options``), frozen.
+
+    ``mu_init``: IPOPT's first barrier parameter when the first point is closer to the
+    solution than IPOPT's own start assumes (:func:`first_barrier`); None for IPOPT's.
+    """
     options: dict[str, Any] = {"print_time": False}
     if planner.solver == "ipopt":
         options.update(
@@ -111,6 +127,8 @@ def nlp_options(planner: OptimalControl) -> tuple[tuple[str, Any], ...]:
                 "ipopt.expect_infeasible_problem": "yes",
             }
         )
+        if mu_init is not None:
+            options["ipopt.mu_init"] = mu_init
     elif planner.solver == "sqpmethod":
         options.update(
             {
@@ -125,25 +143,43 @@ def nlp_options(planner: OptimalControl) -> tuple[tuple[str, Any], ...]:
     return freeze_options(options)
 
 
+def first_barrier(spec: Spec) -> float | None:
+    """IPOPT's first barrier parameter for ``spec``'s cold solves, or None for IPOPT's own.
+
+    :data:`CLOSE_MU_INIT` for a free move whose first nodes sit on its jerk switches,
+    :data:`STRIKE_MU_INIT` for a pool strike (warm solves start from the tolerance's, see
+    :meth:`planners.ocp.transcription.CompiledNLP.warm`).
+    """
+    if spec.switch_joint is not None:
+        return CLOSE_MU_INIT
+    if spec.strike is not None:
+        return STRIKE_MU_INIT
+    return None
+
+
 def compiled_nlp(planner: OptimalControl, structure: Structure, robot: Robot) -> CompiledNLP:
-    """The compiled NLP of ``structure`` for ``robot``, from the planner's cache or built once."""
+    """The compiled NLP of ``structure`` for ``robot``, built once per process.
+
+    From the planner's own cache, else from the process's (:data:`COMPILED`, which every
+    planner object shares), else built and kept in both.
+    """
     with planner._lock:
         compiled = planner._compiled.get(structure)
         if compiled is not None:
             return compiled
-        model = planner._models.get(robot.fingerprint)
-        if model is None:
-            model = planner._models[robot.fingerprint] = SymbolicModel(robot)
-    try:
-        compiled = compile_nlp(structure, model)
-    except RuntimeError as error:
-        if not planner.solver_options:
-            raise
-        raise InvalidInputError(
-            f"solver_options {planner.solver_options!r} were refused by the {planner.solver} "
-            f"plugin: {casadi_reason(str(error))}",
-            name="solver_options",
-        ) from error
+    compiled = COMPILED.get(structure)
+    if compiled is None:
+        model = MODELS.get_or_build(robot.fingerprint, lambda: SymbolicModel(robot))
+        try:
+            compiled = COMPILED.get_or_build(structure, lambda: compile_nlp(structure, model))
+        except RuntimeError as error:
+            if not planner.solver_options:
+                raise
+            raise InvalidInputError(
+                f"solver_options {planner.solver_options!r} were refused by the "
+                f"{planner.solver} plugin: {casadi_reason(str(error))}",
+                name="solver_options",
+            ) from error
     with planner._lock:
         return planner._compiled.setdefault(structure, compiled)
 
@@ -185,7 +221,7 @@ def build_problem(
         margin=planner.margin,
         torque_margin=0.0 if linear else margin,  # linear rows: in their coefficients
         solver=planner.solver,
-        options=planner._options(),
+        options=planner._options(first_barrier(spec)),
     )
     compiled = planner._compile(structure, spec.robot)
     keep = 1.0 - planner.margin
@@ -203,6 +239,8 @@ def build_problem(
             spec, first, structure.torque_nodes, margin if row_margins is None else row_margins
         )
         params["torque"] = torque_linearization(compiled, x0, room)
+    if "anchor" in compiled.parameters.names:
+        params["anchor"] = x0[: compiled.layout.K]
     p = compiled.parameters.vector(**params)
     return OptimalControlProblem(
         problem=problem,
@@ -319,6 +357,24 @@ def initial_point(
             )
         source = warm_start
     layout = compiled.layout
+    x0 = _sampled(source, grids, compiled, _switch_grid(planner, spec, grids, source))
+    kept = {int(node) for node in layout.first_node}
+    if spec.strike is not None:
+        kept.update(spec.strike.nodes(layout.first_node))
+    return np.clip(integrable(x0, layout, compiled.scale, sorted(kept)), lbx, ubx), None, None
+
+
+def _sampled(
+    source: Trajectory,
+    grids: tuple[PhaseGrid, ...],
+    compiled: CompiledNLP,
+    switches: FloatArray | None,
+) -> FloatArray:
+    """A point of ``source``'s states at the nodes (scaled), its grid even in each phase.
+
+    ``switches``: the node times [s] of a one-phase grid instead (:func:`_switch_grid`).
+    """
+    layout = compiled.layout
     mid, half, vel, acc, _ = compiled.scale
     x0 = np.zeros(layout.size)
     for i, grid in enumerate(grids):
@@ -326,6 +382,9 @@ def initial_point(
         duration = window.duration if grid.duration is None else grid.duration
         x0[layout.first_node[i] : layout.first_node[i + 1]] = duration / grid.intervals
         times = np.linspace(window.t_start, window.t_end, grid.intervals + 1)
+        if switches is not None:
+            x0[: layout.K] = np.diff(switches)
+            times = switches
         sample = source.sample(times)
         first = int(layout.first_node[i])
         for j in range(grid.intervals + 1):
@@ -333,7 +392,25 @@ def initial_point(
             x0[layout.x_index(node, 0)] = (sample.q[j] - mid) / half
             x0[layout.x_index(node, 1)] = sample.qd[j] / vel
             x0[layout.x_index(node, 2)] = sample.qdd[j] / acc
-    kept = {int(node) for node in layout.first_node}
-    if spec.strike is not None:
-        kept.update(spec.strike.nodes(layout.first_node))
-    return np.clip(integrable(x0, layout, compiled.scale, sorted(kept)), lbx, ubx), None, None
+    return x0
+
+
+def _switch_grid(
+    planner: OptimalControl, spec: Spec, grids: tuple[PhaseGrid, ...], source: Trajectory
+) -> FloatArray | None:
+    """The first nodes' times [s] of a free one-phase move guessed by Ruckig, else None.
+
+    On the jerk switches of :attr:`Spec.switch_joint` (:func:`switch_times`); None for
+    any other first point (a warm start, several phases, a fixed duration).
+    """
+    if (
+        spec.switch_joint is None
+        or source is not spec.guess
+        or len(grids) != 1
+        or grids[0].duration is not None
+    ):
+        return None
+    times = switch_times(spec.guess, spec.switch_joint, grids[0].intervals, planner.max_interval)
+    if times is None or times[-1] > grids[0].upper:
+        return None
+    return times

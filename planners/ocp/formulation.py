@@ -99,6 +99,10 @@ def point_to_point_spec(problem: PointToPoint) -> Spec:
             required=guess.duration,
             allowed=problem.duration,
         )
+    alone = guess.metadata.get("independent_min_durations")  # a Ruckig move's, else none
+    switch_joint = None
+    if problem.duration is None and alone is not None and np.size(alone) == n:
+        switch_joint = int(np.argmax(alone))
     guess = Trajectory(
         guess.breakpoints, guess.coefficients, phases=[Phase("move", 0.0, guess.duration)]
     )
@@ -109,7 +113,22 @@ def point_to_point_spec(problem: PointToPoint) -> Spec:
         durations=(problem.duration,),
         guess=guess,
         fixed=_boundary_states(problem, phases=1),
+        switch_joint=switch_joint,
     )
+
+
+def keep_switch_grid(spec: Spec, warm_start: Trajectory | None) -> None:
+    """Drop ``spec``'s switch grid (:attr:`Spec.switch_joint`) when a warm start sets the grid.
+
+    A previous solution planned on a switch grid keeps it (its grid and multipliers carry
+    over); any other warm start is sampled on an even grid, which the neighbour grid term
+    and IPOPT's own first barrier suit.
+    """
+    if warm_start is None:
+        return
+    saved = warm_start.metadata.get("warm_start")
+    if not isinstance(saved, WarmStart) or "anchor" not in dict(saved.structure.weights):
+        spec.switch_joint = None
 
 
 def waypoints_spec(problem: Waypoints) -> Spec:

@@ -1,4 +1,4 @@
-"""First guesses: quintic moves and a pool strike's window along its strike line."""
+"""First guesses: moves, a pool strike's window along its strike line, a free move's first grid."""
 
 from __future__ import annotations
 
@@ -13,6 +13,7 @@ from optraj.errors import (
 from optraj.planners.ocp.options import (
     LINE_SAMPLES,
     LINE_SAMPLES_FINE,
+    MIN_INTERVAL,
 )
 from optraj.planners.profiles.time_scaling import quintic_coefficients
 from optraj.planners.strike.contact import (
@@ -109,3 +110,65 @@ def window_guess(problem: PoolStrike, choice: ContactChoice) -> Trajectory:
         ]
     )
     return Trajectory([0.0, into, into + out], coefficients)
+
+
+def switch_times(
+    guess: Trajectory, joint: int, intervals: int, max_interval: float
+) -> FloatArray | None:
+    """Node times [s] of a free move's first grid: on the jerk switches of one joint.
+
+    A minimum-time move's solution has nodes on the jerk switches of the joint that needs
+    longest alone: with joint limits like the Panda's, a few milliseconds of jerk at each end
+    of each acceleration phase. An even grid puts them mid-interval, and the solver spends
+    most of its iterations moving nodes there. Here the times where ``joint``'s jerk changes
+    in ``guess`` (a Ruckig move: its jerk is constant between breakpoints) are nodes, and
+    each span between them gets intervals in proportion to its length, each at most
+    ``max_interval`` long. When that needs more than ``intervals``, only the first and last
+    switch are kept (the jerk ramps at the two ends); when even that does not fit, or
+    ``guess`` is not piecewise cubic, None (an even grid).
+
+    Args:
+        guess: The first guess, from 0 to its duration.
+        joint: The joint whose switches are kept.
+        intervals: Intervals of the phase.
+        max_interval: Longest interval [s].
+
+    Returns:
+        ``intervals + 1`` increasing times from 0 to ``guess.duration``, or None.
+    """
+    knots = np.asarray(guess.breakpoints, dtype=float)
+    coefficients = np.asarray(guess.coefficients, dtype=float)
+    if coefficients.shape[1] != 4:
+        return None
+    duration = float(knots[-1])
+    jerk = 6.0 * coefficients[:, 3, joint]
+    steps = np.abs(np.diff(jerk)) > 1e-9 * max(float(np.max(np.abs(jerk))), 1e-300)
+    edges = [0.0]
+    for time in knots[1:-1][steps].tolist():  # spans shorter than MIN_INTERVAL are merged
+        if time - edges[-1] >= MIN_INTERVAL and duration - time >= MIN_INTERVAL:
+            edges.append(time)
+    edges.append(duration)
+    counts = _span_counts(np.diff(edges), intervals, max_interval)
+    if counts is None and len(edges) > 4:
+        edges = [0.0, edges[1], edges[-2], duration]
+        counts = _span_counts(np.diff(edges), intervals, max_interval)
+    if counts is None:
+        return None
+    pieces = [
+        np.linspace(a, b, c + 1)[:-1] for a, b, c in zip(edges, edges[1:], counts, strict=False)
+    ]
+    return np.concatenate([*pieces, [duration]])
+
+
+def _span_counts(spans: FloatArray, intervals: int, max_interval: float) -> NDArray[np.int_] | None:
+    """Intervals per span [s], ``intervals`` in all; None when they do not fit.
+
+    Each span gets at least one interval and as many as ``max_interval`` [s] needs; the
+    rest go one by one to the span whose intervals are longest.
+    """
+    counts = np.maximum(1, np.ceil(spans / max_interval)).astype(int)
+    if counts.sum() > intervals:
+        return None
+    for _ in range(intervals - int(counts.sum())):
+        counts[int(np.argmax(spans / counts))] += 1
+    return counts

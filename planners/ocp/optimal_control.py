@@ -57,6 +57,7 @@ from optraj.planners.ocp.formulation import (
     check_strike_start_held,
     checked_warm_start,
     held_spec,
+    keep_switch_grid,
     problem_spec,
 )
 from optraj.planners.ocp.options import (
@@ -132,7 +133,6 @@ from optraj.planners.strike.contact import (
 from optraj.planners.strike.window_check import WindowCheck
 from optraj.planners.trajectory import Trajectory
 from optraj.problems import PoolStrike
-from optraj.robots import SymbolicModel
 from optraj.validation import (
     MAX_DURATION,
     as_choice,
@@ -231,7 +231,7 @@ class OptimalControl(CompiledCache):
             :data:`BUDGET_SPENT`.
     """
 
-    caches = ("_compiled", "_models")
+    caches = ("_compiled",)
 
     _weights = round_weights
     _rounds = solve_rounds
@@ -306,7 +306,6 @@ class OptimalControl(CompiledCache):
         self.reuse_contact = as_flag(reuse_contact, "reuse_contact")
         self.time_budget = None if time_budget is None else as_duration(time_budget, "time_budget")
         self._compiled: dict[Structure, CompiledNLP] = {}
-        self._models: dict[str, SymbolicModel] = {}
         self._lock = threading.Lock()
         self._window_check = WindowCheck()
 
@@ -404,6 +403,7 @@ class OptimalControl(CompiledCache):
                 for d, phase in zip(spec.durations, timed.phases, strict=True)
             )
             spec.guess = timed
+            spec.switch_joint = None  # fixed durations: an even grid, as for any other
             traj = self._rounds(problem, spec, weights, None)
             return with_totals(traj, [timed, traj])
         return self._rounds(problem, spec, weights, warm_start)
@@ -418,6 +418,7 @@ class OptimalControl(CompiledCache):
         """
         warm_start = checked_warm_start(problem, warm_start)
         spec = self._spec(problem)
+        keep_switch_grid(spec, warm_start)
         return self._build(problem, spec, self._weights(spec), (), None, warm_start)
 
     def solve(self, built: OptimalControlProblem) -> Trajectory:

@@ -47,6 +47,18 @@ GRID_WEIGHT = 1e-2
 #: The same weight in a pool strike: larger, for faster solves at the cost of slightly
 #: longer motions (a uniform grid, ``free_grid=False``, is faster and longer still).
 STRIKE_GRID_WEIGHT = 1.0
+#: Weight of the term that keeps each interval of a free move near its length in the first
+#: point, when that point's nodes sit on the jerk switches of the joint that needs longest
+#: alone (:func:`planners.ocp.guesses.switch_times`); it replaces :data:`GRID_WEIGHT` there.
+ANCHOR_WEIGHT = 1e-2
+#: IPOPT's first barrier parameter in a cold solve from such a first point [-]: that point
+#: is close to the solution, which IPOPT's own start (0.1) would push far into the interior
+#: before the barrier comes down again.
+CLOSE_MU_INIT = 1e-6
+#: The same in a cold solve of a pool strike [-]: its first point (the strike line by IK, the
+#: approach and stop by Ruckig) is nearer the solution than IPOPT's own start assumes, though
+#: less so than a move's on its jerk switches.
+STRIKE_MU_INIT = 1e-4
 #: Shortest interval of a free phase [s].
 MIN_INTERVAL = 1e-4
 #: Most intervals of a strike phase after refinement.

@@ -156,6 +156,9 @@ class Spec:
     contact: ContactChoice | None = None
     intervals: tuple[int, ...] | None = None  # grid forced by a warm start
     contact_time: float = 0.0  # wall time of the contact choice [s]
+    #: Joint whose jerk switches in ``guess`` place the first nodes of a free one-phase
+    #: move (:func:`planners.ocp.guesses.switch_times`), or None for evenly spaced nodes.
+    switch_joint: int | None = None
 
     @property
     def strike(self) -> StrikeLineRows | None:

@@ -13,7 +13,9 @@ from optraj.errors import (
     OptrajError,
     SolverError,
 )
+from optraj.planners.ocp.formulation import keep_switch_grid
 from optraj.planners.ocp.options import (
+    ANCHOR_WEIGHT,
     GRID_WEIGHT,
     MAX_STRIKE_INTERVALS,
     POSITION_SHRINKS,
@@ -56,7 +58,10 @@ def round_weights(
         weights = {"jerk": 1.0}  # nothing to shorten: the smoothest motion in the time
     if planner.regularization > 0.0:
         weights["jerk"] = weights.get("jerk", 0.0) + planner.regularization
-        weights["grid"] = GRID_WEIGHT if spec.strike is None else STRIKE_GRID_WEIGHT
+        if spec.switch_joint is not None:  # first nodes on the jerk switches: keep them near
+            weights["anchor"] = ANCHOR_WEIGHT
+        else:
+            weights["grid"] = GRID_WEIGHT if spec.strike is None else STRIKE_GRID_WEIGHT
         if robot.dof >= 7:
             weights["posture"] = planner.regularization
     return weights
@@ -241,6 +246,7 @@ def solve_rounds(
             the finest grid.
     """
     settings = RoundSettings.first(planner, spec, warm_start)
+    keep_switch_grid(spec, warm_start)
     solves: list[Trajectory] = []
     for round_ in range(1, ROUNDS + 1):
         built = planner._build(

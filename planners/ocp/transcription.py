@@ -3,8 +3,8 @@ r"""Multiple-shooting transcription of a multi-phase joint motion into a CasADi 
 The motion is split into phases (e.g. approach, strike, stop), phase :math:`p` into
 :math:`N_p` intervals. Each interval length :math:`h_k` is a decision variable: fixed by its
 bounds in a phase of fixed duration, free in a free phase (so that jerk switches can fall on
-nodes; a small cost keeps neighbours alike, or with ``free_grid=False`` rows make them
-equal). The state at every node is
+nodes; a small cost keeps neighbours alike, or each near its length in the first point, or
+with ``free_grid=False`` rows make them equal). The state at every node is
 :math:`x_k = (q_k, \dot q_k, \ddot q_k)`; the jerk :math:`u_k` is constant on interval
 :math:`k`, so the motion is a cubic on each interval and a step is the exact
 triple-integrator map
@@ -51,6 +51,7 @@ from __future__ import annotations
 
 import functools
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -239,15 +240,14 @@ class _Nodes:
 
     w: ca.SX
     layout: Layout
-    mid: FloatArray
-    half: FloatArray
-    vel: FloatArray
-    acc: FloatArray
+    mid: ca.DM
+    half: ca.DM
+    vel: ca.DM
+    acc: ca.DM
 
     def physical(self, z: ca.SX) -> tuple[ca.SX, ca.SX, ca.SX]:
         """(q, qd, qdd) of a scaled node state ``z = (zq, zv, za)``."""
         n = self.layout.n
-        # SX, whatever NumPy's stubs say: NumPy defers to CasADi's operators.
         q: Any = self.mid + self.half * z[:n]
         qd: Any = self.vel * z[n : 2 * n]
         qdd: Any = self.acc * z[2 * n :]
@@ -263,15 +263,29 @@ class _Nodes:
 
 
 def _grid_terms(
-    rows: Rows, structure: Structure, layout: Layout, h: list[ca.SX], time_scale: ca.SX
+    rows: Rows,
+    structure: Structure,
+    layout: Layout,
+    h: list[ca.SX],
+    params: dict[str, ca.SX],
 ) -> ca.SX:
-    """The time and grid cost terms; uniform-grid rows when a free grid is not allowed."""
+    """The time and grid cost terms; uniform-grid rows when a free grid is not allowed.
+
+    The grid term either keeps neighbouring intervals of a free phase alike (weight
+    ``grid``) or keeps each near its length in the first point, the parameter ``anchor``
+    [s] (weight ``anchor``: a first point whose nodes already sit on the jerk switches of
+    the move's slowest joint, :func:`planners.ocp.guesses.switch_times`). The anchored term
+    is convex in the interval lengths alone, so the solver's steps stay near that grid.
+    """
     weights = dict(structure.weights)
+    time_scale = params["time_scale"]
     cost = ca.SX(0.0)
     for k in range(layout.K):
         phase = int(layout.phase_of[k])
         if structure.free[phase] and weights.get("time", 0.0):
             cost += weights["time"] * h[k] / time_scale
+        if structure.free[phase] and weights.get("anchor", 0.0):
+            cost += weights["anchor"] * layout.K * ((h[k] - params["anchor"][k]) / time_scale) ** 2
         if structure.free[phase] and k + 1 < layout.K and int(layout.phase_of[k + 1]) == phase:
             if not structure.free_grid:
                 rows.add("uniform grid", h[k + 1] - h[k], 0.0, 0.0)
@@ -285,13 +299,14 @@ def _interval_terms(
     structure: Structure,
     nodes: _Nodes,
     h: list[ca.SX],
-    scales: tuple[FloatArray, FloatArray, ca.SX],
-    rnea: ca.Function,
+    scales: tuple[ca.DM, ca.DM, ca.SX],
+    rnea: Callable[[], ca.Function],
     cost: ca.SX,
 ) -> ca.SX:
     """Each interval's dynamics and between-node rows, and ``cost`` plus its integral terms.
 
-    ``scales`` holds the jerk and effort limits and the objective's time scale.
+    ``scales`` holds the jerk and effort limits and the objective's time scale; ``rnea``
+    returns the symbolic inverse dynamics (built on first use: only the effort term needs it).
     """
     jerk, effort, time_scale = scales
     layout, mid, half, vel, acc = nodes.layout, nodes.mid, nodes.half, nodes.vel, nodes.acc
@@ -338,7 +353,7 @@ def _interval_terms(
         if weights.get("posture", 0.0):
             cost += weights["posture"] * hk * ca.sumsqr((q0 - mid) / half) / (n * time_scale)
         if weights.get("effort", 0.0):
-            tau = rnea(q0, v0, a0) / effort
+            tau = rnea()(q0, v0, a0) / effort
             cost += weights["effort"] * hk * ca.sumsqr(tau) / (n * time_scale)
     return cost
 
@@ -348,12 +363,13 @@ def _torque_terms(
     structure: Structure,
     nodes: _Nodes,
     coefficients: ca.SX,
-    rnea: ca.Function,
-    effort: FloatArray,
+    rnea: Callable[[], ca.Function],
+    effort: ca.DM,
 ) -> ca.Function | None:
     """The torque rows at the structure's torque nodes; the mapped expansion of linear ones.
 
-    The linear rows' coefficients are ``coefficients``, the parameter ``torque``.
+    The linear rows' coefficients are ``coefficients``, the parameter ``torque``; ``rnea``
+    returns the symbolic inverse dynamics, called only when there are torque nodes.
     """
     n = nodes.layout.n
     expansion = None
@@ -366,12 +382,12 @@ def _torque_terms(
             rows.add("torque", row, -1.0, 1.0, joints=n, at=node)
         if structure.torque_nodes:
             z = ca.SX.sym("z", 3 * n)
-            t = rnea(*nodes.physical(z)) / effort
+            t = rnea()(*nodes.physical(z)) / effort
             single = ca.Function("torque_expansion", [z], [t, ca.jacobian(t, z)])
             expansion = single.map(len(structure.torque_nodes))
     else:
         for node in structure.torque_nodes:
-            tau = rnea(*nodes.state(node)) / effort
+            tau = rnea()(*nodes.state(node)) / effort
             limit = 1.0 - structure.torque_margin
             rows.add("torque", tau, -limit, limit, joints=n, at=node)
     return expansion
@@ -381,13 +397,16 @@ def _parameter_layout(structure: Structure) -> ParameterLayout:
     """The named parameters of the NLP of ``structure``, in order.
 
     ``time_scale`` [s] (the objective's divisor, which keeps it about 1), the parameters of
-    each of its task rows, and ``torque`` (the linear torque rows' coefficients, none for
-    RNEA rows: :func:`torque_parameter_count`).
+    each of its task rows, ``torque`` (the linear torque rows' coefficients, none for
+    RNEA rows: :func:`torque_parameter_count`) and, with an ``anchor`` weight, ``anchor``
+    (the interval lengths the grid term keeps near [s]).
     """
     entries = [("time_scale", 1)]
     for task in structure.tasks:
         entries.extend(task.parameters)
     entries.append(("torque", torque_parameter_count(structure)))
+    if dict(structure.weights).get("anchor", 0.0):
+        entries.append(("anchor", sum(structure.intervals)))  # [s], one per interval
     return ParameterLayout(entries)
 
 
@@ -412,16 +431,20 @@ def compile_nlp(structure: Structure, symbolic: SymbolicModel) -> CompiledNLP:
     params = parameters.symbols(p)
 
     h = [w[k] for k in range(layout.K)]
-    nodes = _Nodes(w, layout, mid, half, vel, acc)
+    # Constants as CasADi matrices: NumPy arrays would reach each SX operation through
+    # NumPy's operator dispatch, slower by far when the graph is built (same graph).
+    nodes = _Nodes(w, layout, ca.DM(mid), ca.DM(half), ca.DM(vel), ca.DM(acc))
+    jerk_dm, effort_dm = ca.DM(jerk), ca.DM(effort)
     rows = Rows()
     time_scale = params["time_scale"]
-    cost = _grid_terms(rows, structure, layout, h, time_scale)
-    rnea = symbolic.rnea()
-    cost = _interval_terms(rows, structure, nodes, h, (jerk, effort, time_scale), rnea, cost)
+    cost = _grid_terms(rows, structure, layout, h, params)
+    # The symbolic RNEA (the costliest expression to build) only when a term needs it.
+    rnea = symbolic.rnea
+    cost = _interval_terms(rows, structure, nodes, h, (jerk_dm, effort_dm, time_scale), rnea, cost)
     task = TaskContext(symbolic, structure.tool_frame, layout, h, params, nodes.state)
     for task_rows in structure.tasks:
         task_rows.add(rows, task)
-    expansion = _torque_terms(rows, structure, nodes, params["torque"], rnea, effort)
+    expansion = _torque_terms(rows, structure, nodes, params["torque"], rnea, effort_dm)
 
     g = ca.vertcat(*rows.rows)
     compiled = CompiledNLP(

@@ -2,15 +2,23 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
+import casadi as ca
 import numpy as np
 import pytest
+from conftest import get_robot
 from ocp_support import exact_motion, nlp_rows, youbot_nlp
 
 from optraj.planners.ocp.transcription import (
     FrozenOptions,
+    Structure,
+    compile_nlp,
     freeze_options,
+    structure_limits,
     thaw_options,
 )
+from optraj.robots import SymbolicModel
 
 
 def test_exact_integration_satisfies_the_dynamics_rows():
@@ -70,3 +78,42 @@ def test_a_warm_start_barrier_starts_at_a_tenth_of_the_tolerance(monkeypatch, to
     assert compiled.warm() == "solver"
     assert passed["ipopt.mu_init"] == pytest.approx(barrier, rel=1e-12)
     assert passed["ipopt.warm_start_init_point"] == "yes"
+
+
+def test_the_anchored_grid_term_is_zero_on_its_anchor_and_grows_off_it():
+    # youbot_nlp's first phase is free, its second fixed: only free intervals are anchored.
+    weights = (("anchor", 0.5), ("time", 1.0))
+    _, anchored = youbot_nlp(weights=weights)
+    _, plain = youbot_nlp(weights=(("time", 1.0),))
+    K = anchored.layout.K
+    w = exact_motion(anchored, np.random.default_rng(3))
+    objective = ca.Function("f", [anchored.w, anchored.p], [anchored.f])
+    time_only = ca.Function("f", [plain.w, plain.p], [plain.f])
+    on = anchored.parameters.vector(time_scale=2.0, anchor=w[:K])
+    expected = float(time_only(w, plain.parameters.vector(time_scale=2.0)))
+    assert float(objective(w, on)) == pytest.approx(expected, rel=1e-14)
+    moved = w[:K] + np.array([0.01, -0.02, 0.03, 0.0, 0.05, 0.05, 0.05])
+    off = anchored.parameters.vector(time_scale=2.0, anchor=moved)
+    # 0.5 K sum over the free intervals of ((h - anchor) / time_scale)^2.
+    free = anchored.layout.phase_of == 0
+    extra = 0.5 * K * np.sum(((w[:K] - moved)[free] / 2.0) ** 2)
+    assert float(objective(w, off)) == pytest.approx(expected + extra, rel=1e-12)
+
+
+def test_the_symbolic_rnea_is_built_only_for_torque_rows_or_an_effort_term():
+    robot = get_robot("youbot")
+    structure = Structure(
+        robot=robot.name,
+        limits=structure_limits(robot.limits),
+        tool_frame=robot.tool_frame,
+        intervals=(4,),
+        free=(True,),
+    )
+    model = SymbolicModel(robot)
+    compile_nlp(structure, model)
+    assert ("rnea", 0) not in model._cache
+    compile_nlp(replace(structure, torque_nodes=(0, 2), torque_rows="linear"), model)
+    assert ("rnea", 0) in model._cache
+    model = SymbolicModel(robot)
+    compile_nlp(replace(structure, weights=(("effort", 1.0), ("time", 1.0))), model)
+    assert ("rnea", 0) in model._cache
