@@ -17,6 +17,7 @@ from benchmarking import pool_shots
 from optraj import controllers, planners, problems, robots
 from optraj.controllers.simulation import simulate
 from optraj.planners import registry
+from optraj.planners.ocp.building import forget_compiled
 from optraj.planners.time_optimal.lower_bound import lower_bound_va
 
 SEED = 35
@@ -214,6 +215,14 @@ class OcpRows:
                 kind="first / reused",
                 goal=1.5,
             ),
+            Spec(
+                "OptimalControl new planner object vs reused",
+                self.new_object,
+                self.reused_call,
+                None,
+                kind="first / reused",
+                goal=1.5,
+            ),
         ]
 
     def ours(self, k: int) -> Callable[[], Any]:
@@ -226,7 +235,17 @@ class OcpRows:
         return self.ours(k)
 
     def first(self, k: int) -> Callable[[], Any]:
-        """A new planner's plan of move k (its NLP built)."""
+        """A new planner's plan of move k in a process that keeps no NLP: its NLP built."""
+        problem = self.moves.rest[k]
+
+        def plan() -> Any:
+            forget_compiled()
+            return planners.OptimalControl("time").plan(problem)
+
+        return plan
+
+    def new_object(self, k: int) -> Callable[[], Any]:
+        """A new planner's plan of move k, the NLP of its shape already built in the process."""
         problem = self.moves.rest[k]
         return lambda: planners.OptimalControl("time").plan(problem)
 

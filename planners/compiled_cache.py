@@ -22,6 +22,8 @@ from collections import OrderedDict
 from collections.abc import Callable, Hashable
 from typing import Any, Generic, TypeVar
 
+from optraj.errors import InvalidInputError
+
 __all__ = ["CompiledCache", "ProcessCache"]
 
 T = TypeVar("T")
@@ -59,11 +61,18 @@ class ProcessCache(Generic[T]):
     others. Past ``size`` entries the least recently used one is dropped.
 
     Args:
-        size: Most entries kept, >= 1.
+        size: Most entries kept, an integer >= 1.
+
+    Raises:
+        InvalidInputError: size is not an integer >= 1.
     """
 
     def __init__(self, size: int) -> None:
-        self.size = max(1, int(size))
+        if int(size) != size or size < 1:
+            raise InvalidInputError(
+                f"cache size must be an integer >= 1, got {size!r}", name="size"
+            )
+        self.size = int(size)
         self._entries: OrderedDict[Hashable, T] = OrderedDict()
         self._lock = threading.Lock()
 

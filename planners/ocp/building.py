@@ -59,6 +59,16 @@ COMPILED: ProcessCache[CompiledNLP] = ProcessCache(64)
 MODELS: ProcessCache[SymbolicModel] = ProcessCache(16)
 
 
+def forget_compiled() -> None:
+    """Drop every compiled NLP and symbolic model the process shares.
+
+    Frees their memory; the next plan of each shape builds its NLP again (planner objects
+    keep the NLPs they already used). Benchmarks call it to time a first plan.
+    """
+    COMPILED.clear()
+    MODELS.clear()
+
+
 def phase_grids(planner: OptimalControl, spec: Spec, strike_scale: int) -> tuple[PhaseGrid, ...]:
     """The time grid of each phase of ``spec``, strike windows ``strike_scale`` times finer."""
     grids = []

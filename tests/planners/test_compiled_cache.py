@@ -5,8 +5,11 @@ from __future__ import annotations
 import pickle
 import threading
 
+import pytest
+
+from optraj.errors import InvalidInputError
 from optraj.planners.base import CompiledCache as ReExported
-from optraj.planners.compiled_cache import CompiledCache
+from optraj.planners.compiled_cache import CompiledCache, ProcessCache
 
 
 class Cached(CompiledCache):
@@ -35,3 +38,9 @@ def test_a_copy_has_empty_caches_a_fresh_lock_and_the_same_settings():
 def test_the_default_cache_is_compiled_and_the_base_module_re_exports_it():
     assert CompiledCache.caches == ("_compiled",)
     assert ReExported is CompiledCache
+
+
+@pytest.mark.parametrize("size", [0, -3, 2.5])
+def test_a_process_cache_refuses_a_size_that_is_not_a_whole_number_above_zero(size):
+    with pytest.raises(InvalidInputError, match=rf"cache size must be an integer >= 1, got {size}"):
+        ProcessCache(size)
