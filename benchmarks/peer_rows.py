@@ -6,6 +6,7 @@ built beforehand, so that the clock sees only the planning.
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -333,20 +334,22 @@ def strike_rows(count: int) -> list[Spec]:
             prepared[k] = (moved, previous)
         return prepared[k]
 
+    # Each timed plan gets a fresh copy of the shot, as a new shot would come: choose_contact
+    # remembers its answer per problem object, so the same object would skip the search.
     def warm(k: int) -> Any:
         moved, previous = prepare(k)
-        return lambda: plain.plan(moved, warm_start=previous)
+        return lambda: plain.plan(copy.copy(moved), warm_start=previous)
 
     def cold(k: int) -> Any:
         moved, _ = prepare(k)
-        return lambda: plain.plan(moved)
+        return lambda: plain.plan(copy.copy(moved))
 
     def cold_other(k: int, _: Any) -> Any:
         return cold(k)
 
     def ruckig_other(k: int, _: Any) -> Any:
         moved, _ = prepare(k)
-        return lambda: ruckig.plan(moved)
+        return lambda: ruckig.plan(copy.copy(moved))
 
     return [
         Spec(
