@@ -4,7 +4,8 @@ A cubic meets positions and velocities at both ends (the ECE486 seed uses the re
 form s(t) = 3 (t/T)^2 - 2 (t/T)^3); a quintic also meets accelerations (Coursework 3 Q1a solves
 its 6x6 system; here it is solved in closed form). Without a fixed duration, the shortest one
 whose velocity, acceleration (and, for the quintic, jerk) peaks fit the limits is found; the
-peaks are evaluated exactly at the roots of the derivative polynomials.
+peaks are evaluated exactly at the roots of the derivative polynomials
+(:mod:`optraj.planners.profiles.peaks`), in closed form when the move starts and ends at rest.
 """
 
 from __future__ import annotations
@@ -23,8 +24,16 @@ from optraj.planners.base import (
 )
 from optraj.planners.profiles.contact_velocity import paddle_contact_velocity
 from optraj.planners.profiles.lspb import LSPB
+from optraj.planners.profiles.peaks import (
+    REST_PEAKS,
+    polynomial_peaks,
+    position_range,
+    rate_peaks,
+    rest_to_rest_peaks,
+)
 from optraj.planners.trajectory import Phase, Trajectory
 from optraj.problems import PaddleStrike, PointToPoint
+from optraj.problems.point_to_point import STILL_TOLERANCE
 from optraj.robots import JointLimits
 from optraj.validation import MIN_DURATION, as_duration
 
@@ -97,66 +106,6 @@ def quintic_coefficients(
     return np.stack([p0, d0, 0.5 * b0, c3, c4, c5])
 
 
-def _derivative(coefficients: FloatArray) -> FloatArray:
-    powers = np.arange(1, coefficients.shape[0], dtype=float)[:, None]
-    return coefficients[1:] * powers
-
-
-def _abs_max(coefficients: FloatArray, duration: float) -> tuple[FloatArray, FloatArray]:
-    """Largest |p(t)| on [0, T] per column and where it occurs (endpoints or stationary points)."""
-    n = coefficients.shape[1]
-    peaks = np.zeros(n)
-    times = np.zeros(n)
-    slope = _derivative(coefficients) if coefficients.shape[0] > 1 else None
-    for j in range(n):
-        candidates = [0.0, duration]
-        if slope is not None and np.any(slope[:, j] != 0.0):
-            roots = np.roots(slope[::-1, j])
-            real = roots[np.abs(roots.imag) < 1e-9].real
-            candidates.extend(t for t in real if 0.0 < t < duration)
-        values = np.abs(np.polynomial.polynomial.polyval(np.array(candidates), coefficients[:, j]))
-        k = int(np.argmax(values))
-        peaks[j], times[j] = values[k], candidates[k]
-    return peaks, times
-
-
-def polynomial_peaks(coefficients: ArrayLike, duration: float) -> dict[str, FloatArray]:
-    """Exact peak |velocity|, |acceleration| and |jerk| of one polynomial per joint on [0, T].
-
-    Args:
-        coefficients: Shape (d + 1, n), row i multiplying t^i.
-        duration: T [s].
-
-    Returns:
-        ``{"position_min", "position_max", "velocity", "acceleration", "jerk"}``, each shape
-        (n,) (absolute peaks for the derivatives).
-    """
-    coeffs = np.asarray(coefficients, float)
-    velocity = _derivative(coeffs)
-    acceleration = (
-        _derivative(velocity) if velocity.shape[0] > 1 else np.zeros((1, coeffs.shape[1]))
-    )
-    jerk = (
-        _derivative(acceleration) if acceleration.shape[0] > 1 else np.zeros((1, coeffs.shape[1]))
-    )
-    # Position extremes: endpoints and roots of the velocity.
-    lows, highs = np.empty(coeffs.shape[1]), np.empty(coeffs.shape[1])
-    for j in range(coeffs.shape[1]):
-        candidates = [0.0, duration]
-        if np.any(velocity[:, j] != 0.0):
-            roots = np.roots(velocity[::-1, j])
-            candidates.extend(r.real for r in roots if abs(r.imag) < 1e-9 and 0 < r.real < duration)
-        values = np.polynomial.polynomial.polyval(np.array(candidates), coeffs[:, j])
-        lows[j], highs[j] = values.min(), values.max()
-    return {
-        "position_min": lows,
-        "position_max": highs,
-        "velocity": _abs_max(velocity, duration)[0],
-        "acceleration": _abs_max(acceleration, duration)[0],
-        "jerk": _abs_max(jerk, duration)[0],
-    }
-
-
 def worst_rate_limit(
     peaks: dict[str, FloatArray],
     limits: JointLimits,
@@ -176,7 +125,7 @@ def worst_rate_limit(
     for quantity in quantities:
         allowed = getattr(limits, quantity)
         ratio = peaks[quantity] / allowed
-        j = int(np.argmax(ratio))
+        j = int(ratio.argmax())
         if ratio[j] > worst_ratio:
             worst = (quantity, j, float(peaks[quantity][j]), float(allowed[j]))
             worst_ratio = float(ratio[j])
@@ -211,12 +160,19 @@ def _limit_error(
     )
 
 
+def _at_rest(boundary: dict[str, FloatArray]) -> bool:
+    """Whether every end velocity and acceleration of ``boundary`` is zero."""
+    return not any(value.any() for value in boundary.values())
+
+
 class _Polynomial(JointProfile):
     """Shared machinery of the cubic and quintic scalings."""
 
     degree = 3
     #: Which limits the profile keeps (a cubic's jerk is not bounded at its ends).
     limited: tuple[str, ...] = ("velocity", "acceleration")
+    #: The rest-to-rest shape s(x) on [0, 1], ascending powers of x.
+    shape: tuple[float, ...] = (0.0, 0.0, 3.0, -2.0)
 
     def __init__(self, duration: float | None = None) -> None:
         """Args: duration: Fixed duration [s] for every move, or None (shortest in limits)."""
@@ -228,42 +184,70 @@ class _Polynomial(JointProfile):
     ) -> FloatArray:
         raise NotImplementedError
 
+    def _rest_coefficients(self, q0: FloatArray, q1: FloatArray, duration: float) -> FloatArray:
+        """Coefficients of q0 + (q1 - q0) s(t / T), shape (degree + 1, n).
+
+        The rest-to-rest move: :meth:`_coefficients` with zero end rates, up to round-off.
+        """
+        shape = np.array(self.shape)
+        scale = shape / duration ** np.arange(shape.size, dtype=float)
+        coeffs = np.multiply.outer(scale, q1 - q0)
+        coeffs[0] = q0
+        return coeffs
+
     def _check(
         self,
         coeffs: FloatArray,
         duration: float,
         limits: JointLimits,
         slack: float = _SLACK,
+        ends: tuple[FloatArray, FloatArray] | None = None,
     ) -> tuple[str, int, float, float] | None:
-        """The worst limit broken as (quantity, joint, needed, allowed), or None."""
-        peaks = polynomial_peaks(coeffs, duration)
-        below = limits.lower - peaks["position_min"]
-        above = peaks["position_max"] - limits.upper
+        """The worst limit broken as (quantity, joint, needed, allowed), or None.
+
+        ``ends`` (q0, q1) says the move is the rest-to-rest one between them: its peaks then
+        have closed forms.
+        """
+        if ends is not None:
+            peaks = rest_to_rest_peaks(ends[0], ends[1], duration, self.degree)
+            lowest, highest = peaks["position_min"], peaks["position_max"]
+        else:
+            lowest, highest = position_range(coeffs, duration, limits.lower, limits.upper, 1e-9)
+        below = limits.lower - lowest
+        above = highest - limits.upper
         for excess, values, bound in (
-            (below, peaks["position_min"], limits.lower),
-            (above, peaks["position_max"], limits.upper),
+            (below, lowest, limits.lower),
+            (above, highest, limits.upper),
         ):
-            j = int(np.argmax(excess))
+            j = int(excess.argmax())
             if excess[j] > 1e-9:
                 return "position", j, float(values[j]), float(bound[j])
+        if ends is None:
+            peaks = rate_peaks(coeffs, duration)
         return worst_rate_limit(peaks, limits, self.limited, slack)
 
     def _shortest(
-        self, q0: FloatArray, q1: FloatArray, limits: JointLimits, boundary: dict[str, FloatArray]
+        self,
+        q0: FloatArray,
+        q1: FloatArray,
+        limits: JointLimits,
+        boundary: dict[str, FloatArray],
+        rest: bool,
     ) -> float:
         """Shortest duration whose peaks fit the limits.
 
         Rest to rest, q(t) = q0 + (q1 - q0) s(t / T) for a fixed shape s, so the k-th
-        derivative peaks scale exactly as 1 / T^k: one evaluation at T = 1 gives T. With
-        moving ends the shape changes with T: doubling, then bisection. A rest-to-rest move
-        lasts at least MIN_DURATION [s].
+        derivative peaks scale exactly as 1 / T^k: the closed-form peaks at T = 1 give T.
+        With moving ends the shape changes with T: doubling, then bisection. A rest-to-rest
+        move lasts at least MIN_DURATION [s].
         """
-        if all(not np.any(value) for value in boundary.values()):
-            peaks = polynomial_peaks(self._coefficients(q0, q1, 1.0, boundary), 1.0)
-            order = {"velocity": 1, "acceleration": 2, "jerk": 3}
+        if rest:
+            distance = np.abs(q1 - q0)
             needs = [
-                np.max(peaks[quantity] / getattr(limits, quantity)) ** (1.0 / order[quantity])
-                for quantity in self.limited
+                ((distance * peak) / getattr(limits, quantity)).max() ** (1.0 / order)
+                for order, (quantity, peak) in enumerate(
+                    zip(self.limited, REST_PEAKS[self.degree], strict=False), start=1
+                )
             ]
             shortest = float(max(needs))
             if shortest > 0.0:
@@ -293,21 +277,35 @@ class _Polynomial(JointProfile):
                 break
         return high
 
-    def _segment(
+    def _timed(
         self,
         q0: FloatArray,
         q1: FloatArray,
         limits: JointLimits,
         duration: float | None,
         boundary: dict[str, FloatArray],
-    ) -> Trajectory:
+        rest: bool = False,
+    ) -> tuple[float, FloatArray]:
+        """Duration [s] and coefficients (degree + 1, n) of one move within the limits.
+
+        ``rest`` says that every value of ``boundary`` is zero (the rest-to-rest closed forms
+        then apply); False leaves that to be found out.
+
+        Raises:
+            InfeasibleError: A fixed duration that breaks a limit, or no duration that fits.
+        """
+        rest = rest or _at_rest(boundary)
         if duration is None:
-            duration = self._shortest(q0, q1, limits, boundary)
-        coeffs = self._coefficients(q0, q1, duration, boundary)
-        failure = self._check(coeffs, duration, limits)
+            duration = self._shortest(q0, q1, limits, boundary, rest)
+        if rest:
+            coeffs = self._rest_coefficients(q0, q1, duration)
+            failure = self._check(coeffs, duration, limits, ends=(q0, q1))
+        else:
+            coeffs = self._coefficients(q0, q1, duration, boundary)
+            failure = self._check(coeffs, duration, limits)
         if failure is not None:
             raise rate_limit_error(failure, limits, f"{self.name} in {duration:.4g} s")
-        return Trajectory([0.0, duration], coeffs[None], joint_names=limits.names)
+        return duration, coeffs
 
     def move(
         self,
@@ -329,7 +327,8 @@ class _Polynomial(JointProfile):
         q0, q1, duration = rest_to_rest_inputs(q_start, q_goal, limits, duration, self.name)
         zeros = np.zeros(limits.n)
         boundary = {"v0": zeros, "v1": zeros, "a0": zeros, "a1": zeros}
-        return self._segment(q0, q1, limits, duration, boundary)
+        length, coeffs = self._timed(q0, q1, limits, duration, boundary, rest=True)
+        return Trajectory(np.array([0.0, length]), coeffs[None], joint_names=limits.names)
 
     def plan(self, problem: PointToPoint | PaddleStrike) -> Trajectory:
         """Plan a PointToPoint, or a paddle4 strike (the seed's: arrive at rest).
@@ -354,28 +353,22 @@ class _Polynomial(JointProfile):
                 f"{type(problem).__name__}",
                 name="problem",
             )
-        if self.duration is None:
-            problem.require_motion(self.name)
+        q0, q1 = problem.q_start, problem.q_goal
+        if self.duration is None and not (np.abs(q1 - q0) > STILL_TOLERANCE).any():
+            problem.require_motion(self.name)  # a goal that equals the start: refused at rest
         boundary = self._boundary(problem)
         duration = problem.duration if problem.duration is not None else self.duration
-        segment = self._segment(
-            np.asarray(problem.q_start),
-            np.asarray(problem.q_goal),
-            problem.limits,
-            duration,
-            boundary,
-        )
+        length, coeffs = self._timed(q0, q1, problem.limits, duration, boundary)
         traj = Trajectory(
-            segment.breakpoints,
-            segment.coefficients,
+            np.array([0.0, length]),
+            coeffs[None],
             joint_names=problem.limits.names,
-            phases=[Phase("move", 0.0, segment.duration)],
+            phases=[Phase("move", 0.0, length)],
         )
         return stamp(traj, self.name, started)
 
     def _boundary(self, problem: PointToPoint) -> dict[str, FloatArray]:
-        n = problem.limits.n
-        zeros = np.zeros(n)
+        zeros = np.zeros(problem.limits.n)
         boundary = {
             "v0": np.asarray(problem.qd_start),
             "v1": np.asarray(problem.qd_goal),
@@ -391,18 +384,20 @@ class _Polynomial(JointProfile):
         limits = problem.limits
         q0, qc = np.asarray(problem.q_start), np.asarray(problem.q_contact)
         zeros = np.zeros(limits.n)
+        contact_time = float(problem.contact_time)
         if float(problem.speed) == 0.0:
             boundary = {"v0": zeros, "v1": zeros, "a0": zeros, "a1": zeros}
-            approach = self._segment(q0, qc, limits, float(problem.contact_time), boundary)
+            length, coeffs = self._timed(q0, qc, limits, contact_time, boundary)
             return Trajectory(
-                approach.breakpoints,
-                approach.coefficients,
+                np.array([0.0, length]),
+                coeffs[None],
                 joint_names=limits.names,
-                phases=[Phase("approach", 0.0, approach.duration)],
+                phases=[Phase("approach", 0.0, length)],
             )
         qd_contact = paddle_contact_velocity(problem)
         boundary = {"v0": zeros, "v1": qd_contact, "a0": zeros, "a1": zeros}
-        approach = self._segment(q0, qc, limits, float(problem.contact_time), boundary)
+        length, coeffs = self._timed(q0, qc, limits, contact_time, boundary)
+        approach = Trajectory(np.array([0.0, length]), coeffs[None], joint_names=limits.names)
         stop_boundary = {"v0": qd_contact, "v1": zeros, "a0": zeros, "a1": zeros}
         # Coast to a stop: for the stop time T, end where the velocity would carry it in T/2.
         stop = None
@@ -453,6 +448,7 @@ class Quintic(_Polynomial):
     name = "quintic"
     degree = 5
     limited = ("velocity", "acceleration", "jerk")
+    shape = (0.0, 0.0, 0.0, 10.0, -15.0, 6.0)
 
     def _coefficients(
         self, q0: FloatArray, q1: FloatArray, duration: float, boundary: dict[str, FloatArray]

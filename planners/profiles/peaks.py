@@ -1,0 +1,257 @@
+"""Exact extremes of one polynomial per joint on [0, T], every joint at once.
+
+A polynomial's extremes on an interval lie at its ends or where its derivative vanishes. The
+roots of that derivative are found for all joints together: in closed form up to degree 2,
+and as the eigenvalues of stacked companion matrices above (what ``np.roots`` does for one
+polynomial). Every root's real part, clipped to [0, T], joins the candidates: a point of the
+interval never overstates an extreme, so no root needs to be judged real or complex.
+
+Rest to rest, a cubic or quintic time scaling is q0 + (q1 - q0) s(t / T) with a fixed shape s,
+whose peaks have closed forms (:data:`REST_PEAKS`, :func:`rest_to_rest_peaks`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = ["REST_PEAKS", "polynomial_peaks", "position_range", "rate_peaks", "rest_to_rest_peaks"]
+
+FloatArray = NDArray[np.float64]
+
+#: Peaks of |s'|, |s''| and |s'''| on [0, 1] of the rest-to-rest shapes, by polynomial degree.
+#: Cubic, s = 3x^2 - 2x^3: s' = 6x(1 - x) peaks at x = 1/2 (3/2); s'' = 6 - 12x at the ends
+#: (6); s''' = -12. Quintic, s = 10x^3 - 15x^4 + 6x^5: s' = 30x^2(1 - x)^2 peaks at x = 1/2
+#: (15/8); s'' = 60x(1 - x)(1 - 2x) where s''' = 0, x = (3 -+ sqrt 3)/6, giving 10/sqrt(3);
+#: s''' = 60 - 360x + 360x^2 at the ends (60, against -30 at x = 1/2). Our derivation; the
+#: same values are tabled by Biagiotti & Melchiorri, *Trajectory Planning for Automatic
+#: Machines and Robots*, Springer 2008, ch. 2.
+REST_PEAKS: dict[int, tuple[float, float, float]] = {
+    3: (1.5, 6.0, 12.0),
+    5: (1.875, 10.0 / math.sqrt(3.0), 60.0),
+}
+
+
+def rest_to_rest_peaks(
+    q0: FloatArray, q1: FloatArray, duration: float, degree: int
+) -> dict[str, FloatArray]:
+    """Peaks of the rest-to-rest cubic (degree 3) or quintic (5) from q0 to q1 in T [s].
+
+    The k-th derivative is (q1 - q0) s^(k)(t / T) / T^k, so its peak is the shape's
+    (:data:`REST_PEAKS`) times |q1 - q0| / T^k; the motion is monotone, so the positions stay
+    between q0 and q1.
+
+    Returns:
+        As :func:`polynomial_peaks`.
+    """
+    velocity, acceleration, jerk = REST_PEAKS[degree]
+    distance = np.abs(q1 - q0)
+    return {
+        "position_min": np.minimum(q0, q1),
+        "position_max": np.maximum(q0, q1),
+        "velocity": distance * (velocity / duration),
+        "acceleration": distance * (acceleration / duration**2),
+        "jerk": distance * (jerk / duration**3),
+    }
+
+
+def _derivative(coefficients: FloatArray) -> FloatArray:
+    """Coefficients (ascending powers, one column per joint) of the derivative."""
+    degree = coefficients.shape[0] - 1
+    if degree == 0:
+        return np.zeros_like(coefficients)
+    return coefficients[1:] * np.arange(1.0, degree + 1.0)[:, None]
+
+
+def _quadratic_roots(c: FloatArray, b: FloatArray, a: FloatArray) -> FloatArray:
+    """Roots of a x^2 + b x + c per column (real parts; NaN where there is none), (2, n)."""
+    root = np.sqrt(np.maximum(b * b - 4.0 * a * c, 0.0))
+    q = -0.5 * (b + np.copysign(root, b))
+    # a == 0: the root of the line b x + c; q == 0 only with b = c = 0 (a root at 0).
+    first = np.where(a == 0.0, -c / b, q / a)
+    second = np.where(q == 0.0, 0.0, c / q)
+    return np.stack([first, second])
+
+
+def _cubic_roots(coefficients: FloatArray) -> FloatArray:
+    """Roots of a x^3 + b x^2 + c x + d per column (real parts), shape (3, n).
+
+    Cardano's formula for one real root, the trigonometric form for three (Press et al.,
+    *Numerical Recipes*, 3rd ed., 2007, sec. 5.6), then two Newton steps on the cubic itself,
+    which also recover the roots of a nearly quadratic column from its quadratic's.
+    """
+    d, c, b, a = coefficients
+    scale = np.maximum(np.maximum(np.abs(b), np.abs(c)), np.abs(d))
+    cubic = np.abs(a) > 1e-6 * scale
+    safe = np.where(cubic, a, 1.0)
+    shift, p1, p0 = b / safe, c / safe, d / safe
+    p = p1 - shift * shift / 3.0
+    q = 2.0 * shift**3 / 27.0 - shift * p1 / 3.0 + p0
+    half = 0.5 * q
+    disc = half * half + (p / 3.0) ** 3
+    # one real root (disc > 0): Cardano; the complex pair's real part is -root / 2
+    sq = np.sqrt(np.maximum(disc, 0.0))
+    one = np.cbrt(-half + sq) + np.cbrt(-half - sq)
+    # three real roots (disc <= 0, p <= 0)
+    radius = np.sqrt(np.maximum(-p / 3.0, 0.0))
+    cosine = np.clip(
+        np.where(radius > 0.0, -half / np.where(radius > 0.0, radius, 1.0) ** 3, 0.0), -1.0, 1.0
+    )
+    angle = np.arccos(cosine) / 3.0
+    three = 2.0 * radius * np.cos(angle - (2.0 * np.pi / 3.0) * np.arange(3.0)[:, None])
+    real = disc > 0.0
+    depressed = np.where(real, np.stack([one, -0.5 * one, -0.5 * one]), three)
+    near = np.vstack([_quadratic_roots(d, c, b), np.full((1, d.size), np.nan)])
+    roots = np.where(cubic, depressed - shift / 3.0, near)
+    for _ in range(2):
+        value = ((a * roots + b) * roots + c) * roots + d
+        slope = (3.0 * a * roots + 2.0 * b) * roots + c
+        step = value / slope
+        roots = np.where(np.isfinite(step), roots - step, roots)
+    return roots
+
+
+def _roots(coefficients: FloatArray) -> FloatArray:
+    """Real parts of the roots of each column (ascending powers), shape (degree, n).
+
+    Closed forms up to degree 3, companion eigenvalues above. Where a column has fewer roots
+    (a zero leading coefficient) the missing ones may be NaN or inf.
+    """
+    degree = coefficients.shape[0] - 1
+    with np.errstate(all="ignore"):
+        if degree == 1:
+            return (-coefficients[0] / coefficients[1])[None]
+        if degree == 2:
+            return _quadratic_roots(*coefficients)
+        if degree == 3:
+            return _cubic_roots(coefficients)
+        lead = coefficients[-1]
+        full = lead != 0.0
+        n = coefficients.shape[1]
+        roots = np.full((degree, n), np.nan)
+        if np.any(full):
+            columns = coefficients[:, full]
+            companion = np.zeros((columns.shape[1], degree, degree))
+            companion[:, 0, :] = -(columns[-2::-1] / columns[-1]).T
+            companion[:, np.arange(1, degree), np.arange(degree - 1)] = 1.0
+            roots[:, full] = np.linalg.eigvals(companion).real.T
+        for j in np.flatnonzero(~full):
+            if np.any(coefficients[:, j] != 0.0):
+                found = np.roots(coefficients[::-1, j]).real
+                roots[: found.size, j] = found
+        return roots
+
+
+def _candidates(coefficients: FloatArray, duration: float) -> FloatArray:
+    """Times [s] that hold every extreme on [0, T] of each column, shape (m, n)."""
+    n = coefficients.shape[1]
+    ends = np.array([[0.0], [duration]])
+    if coefficients.shape[0] < 3:  # constant or linear: its ends
+        return np.broadcast_to(ends, (2, n))
+    inner = _roots(_derivative(coefficients))
+    inner = np.clip(np.nan_to_num(inner, nan=0.0, posinf=0.0, neginf=0.0), 0.0, duration)
+    return np.concatenate([np.broadcast_to(ends, (2, n)), inner])
+
+
+def _values(coefficients: FloatArray, times: FloatArray) -> FloatArray:
+    """Each column's polynomial at its own times (m, n), Horner's scheme."""
+    result = np.broadcast_to(coefficients[-1], times.shape)
+    for row in coefficients[-2::-1]:
+        result = result * times + row
+    return result
+
+
+def _extremes(coefficients: FloatArray, duration: float) -> tuple[FloatArray, FloatArray]:
+    """Smallest and largest value on [0, T] of each column, shapes (n,)."""
+    values = _values(coefficients, _candidates(coefficients, duration))
+    return values.min(axis=0), values.max(axis=0)
+
+
+def _abs_peak(coefficients: FloatArray, duration: float) -> FloatArray:
+    low, high = _extremes(coefficients, duration)
+    return np.maximum(high, -low)
+
+
+def polynomial_peaks(coefficients: ArrayLike, duration: float) -> dict[str, FloatArray]:
+    """Exact peak |velocity|, |acceleration| and |jerk| of one polynomial per joint on [0, T].
+
+    Args:
+        coefficients: Shape (d + 1, n), row i multiplying t^i.
+        duration: T [s].
+
+    Returns:
+        ``{"position_min", "position_max", "velocity", "acceleration", "jerk"}``, each shape
+        (n,) (absolute peaks for the derivatives).
+    """
+    coeffs = np.asarray(coefficients, float)
+    velocity = _derivative(coeffs)
+    acceleration = _derivative(velocity)
+    jerk = _derivative(acceleration)
+    low, high = _extremes(coeffs, duration)
+    return {
+        "position_min": low,
+        "position_max": high,
+        "velocity": _abs_peak(velocity, duration),
+        "acceleration": _abs_peak(acceleration, duration),
+        "jerk": _abs_peak(jerk, duration),
+    }
+
+
+def _bernstein_matrix(degree: int) -> FloatArray:
+    """M such that M @ a holds the Bernstein coefficients on [0, 1] of sum_i a_i x^i.
+
+    The standard change of basis, b_k = sum_{i <= k} C(k, i) / C(d, i) a_i (Farin, *Curves
+    and Surfaces for CAGD*, 5th ed., 2002).
+    """
+    matrix = np.zeros((degree + 1, degree + 1))
+    for k in range(degree + 1):
+        for i in range(k + 1):
+            matrix[k, i] = math.comb(k, i) / math.comb(degree, i)
+    return matrix
+
+
+_BERNSTEIN = {degree: _bernstein_matrix(degree) for degree in range(1, 8)}
+
+
+def position_range(
+    coefficients: FloatArray, duration: float, lower: FloatArray, upper: FloatArray, margin: float
+) -> tuple[FloatArray, FloatArray]:
+    """Lowest and highest value on [0, T] of each column, exact where it may leave a box.
+
+    A polynomial on [0, T] lies within the range of its Bernstein coefficients; a column whose
+    range is within [lower - margin, upper + margin] gets that range (its extremes do not
+    leave the box by more than margin), every other column its exact extremes. A test
+    ``lower - low > margin`` or ``high - upper > margin`` thus has the answer the exact
+    extremes give.
+
+    Args:
+        coefficients: Shape (d + 1, n), row i multiplying t^i.
+        duration: T [s].
+        lower: Lower bounds, shape (n,).
+        upper: Upper bounds, shape (n,).
+        margin: Excess tolerated [same unit].
+    """
+    degree = coefficients.shape[0] - 1
+    if degree not in _BERNSTEIN:
+        return _extremes(coefficients, duration)
+    scaled = coefficients * (duration ** np.arange(degree + 1.0))[:, None]
+    hull = _BERNSTEIN[degree] @ scaled
+    low, high = hull.min(axis=0), hull.max(axis=0)
+    unsure = (lower - low > margin) | (high - upper > margin)
+    if np.any(unsure):
+        exact_low, exact_high = _extremes(coefficients[:, unsure], duration)
+        low[unsure], high[unsure] = exact_low, exact_high
+    return low, high
+
+
+def rate_peaks(coefficients: FloatArray, duration: float) -> dict[str, FloatArray]:
+    """Exact peak |velocity|, |acceleration| and |jerk| on [0, T] per column, shapes (n,)."""
+    velocity = _derivative(coefficients)
+    acceleration = _derivative(velocity)
+    return {
+        "velocity": _abs_peak(velocity, duration),
+        "acceleration": _abs_peak(acceleration, duration),
+        "jerk": _abs_peak(_derivative(acceleration), duration),
+    }
