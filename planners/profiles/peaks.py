@@ -17,7 +17,15 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["REST_PEAKS", "polynomial_peaks", "position_range", "rate_peaks", "rest_to_rest_peaks"]
+__all__ = [
+    "REST_PEAKS",
+    "extremes",
+    "polynomial_peaks",
+    "position_range",
+    "rate_bounds",
+    "rate_peaks",
+    "rest_to_rest_peaks",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -76,48 +84,60 @@ def _quadratic_roots(c: FloatArray, b: FloatArray, a: FloatArray) -> FloatArray:
 
 
 def _cubic_roots(coefficients: FloatArray) -> FloatArray:
-    """Roots of a x^3 + b x^2 + c x + d per column (real parts), shape (3, n).
+    """Roots of a x^3 + b x^2 + c x + d per column (real parts), twice: shape (6, n).
 
-    Cardano's formula for one real root, the trigonometric form for three (Press et al.,
-    *Numerical Recipes*, 3rd ed., 2007, sec. 5.6), then two Newton steps on the cubic itself,
-    which also recover the roots of a nearly quadratic column from its quadratic's.
+    With x = y - b / (3 a), y^3 + p y + q = 0: Cardano's formula where it has one real root,
+    the trigonometric form where it has three (Press et al., *Numerical Recipes*, 3rd ed.,
+    2007, sec. 5.6); then a Newton step on the cubic itself. A column whose a is below 1e-6
+    of its other coefficients takes its quadratic's roots and two Newton steps instead. The
+    roots before and after the steps are both returned (NaN or inf where a step failed).
     """
     d, c, b, a = coefficients
-    scale = np.maximum(np.maximum(np.abs(b), np.abs(c)), np.abs(d))
-    cubic = np.abs(a) > 1e-6 * scale
-    safe = np.where(cubic, a, 1.0)
-    shift, p1, p0 = b / safe, c / safe, d / safe
-    p = p1 - shift * shift / 3.0
-    q = 2.0 * shift**3 / 27.0 - shift * p1 / 3.0 + p0
-    half = 0.5 * q
+    cubic = np.abs(a) > 1e-6 * np.maximum(np.maximum(np.abs(b), np.abs(c)), np.abs(d))
+    everywhere = bool(cubic.all())
+    inverse = 1.0 / (a if everywhere else np.where(cubic, a, 1.0))
+    third = b * inverse / 3.0
+    slope1, slope0 = c * inverse, d * inverse
+    p = slope1 - 3.0 * third * third
+    half = 0.5 * ((2.0 * third * third - slope1) * third + slope0)
     disc = half * half + (p / 3.0) ** 3
-    # one real root (disc > 0): Cardano; the complex pair's real part is -root / 2
-    sq = np.sqrt(np.maximum(disc, 0.0))
-    one = np.cbrt(-half + sq) + np.cbrt(-half - sq)
-    # three real roots (disc <= 0, p <= 0)
-    radius = np.sqrt(np.maximum(-p / 3.0, 0.0))
-    cosine = np.clip(
-        np.where(radius > 0.0, -half / np.where(radius > 0.0, radius, 1.0) ** 3, 0.0), -1.0, 1.0
-    )
-    angle = np.arccos(cosine) / 3.0
-    three = 2.0 * radius * np.cos(angle - (2.0 * np.pi / 3.0) * np.arange(3.0)[:, None])
-    real = disc > 0.0
-    depressed = np.where(real, np.stack([one, -0.5 * one, -0.5 * one]), three)
-    near = np.vstack([_quadratic_roots(d, c, b), np.full((1, d.size), np.nan)])
-    roots = np.where(cubic, depressed - shift / 3.0, near)
-    for _ in range(2):
+    single = disc > 0.0
+    if single.all():  # one real root; the complex pair's real part is -root / 2
+        sq = np.sqrt(disc)
+        one = np.cbrt(sq - half) - np.cbrt(sq + half)
+        depressed = np.stack([one, -0.5 * one, -0.5 * one])
+    else:
+        radius = np.sqrt(np.maximum(p / -3.0, 0.0))
+        cosine = np.clip(-half / np.maximum(radius, 1e-100) ** 3, -1.0, 1.0)
+        angle = np.arccos(cosine) / 3.0
+        depressed = 2.0 * radius * np.cos(angle - _THIRDS)
+        if single.any():
+            sq = np.sqrt(np.maximum(disc, 0.0))
+            one = np.cbrt(sq - half) - np.cbrt(sq + half)
+            depressed = np.where(single, np.stack([one, -0.5 * one, -0.5 * one]), depressed)
+    found = depressed - third
+    steps = 1
+    if not everywhere:
+        near = np.vstack([_quadratic_roots(d, c, b), np.full((1, d.size), np.nan)])
+        found = np.where(cubic, found, near)
+        steps = 2
+    roots = found
+    for _ in range(steps):  # at a multiple root a step may go astray: both are kept
         value = ((a * roots + b) * roots + c) * roots + d
-        slope = (3.0 * a * roots + 2.0 * b) * roots + c
-        step = value / slope
-        roots = np.where(np.isfinite(step), roots - step, roots)
-    return roots
+        roots = roots - value / ((3.0 * a * roots + 2.0 * b) * roots + c)
+    return np.concatenate([found, roots])
+
+
+#: Angles [rad] between the three real roots of the trigonometric form.
+_THIRDS = (2.0 * np.pi / 3.0) * np.arange(3.0)[:, None]
 
 
 def _roots(coefficients: FloatArray) -> FloatArray:
-    """Real parts of the roots of each column (ascending powers), shape (degree, n).
+    """Real parts of the roots of each column (ascending powers), shape (m, n), m >= degree.
 
     Closed forms up to degree 3, companion eigenvalues above. Where a column has fewer roots
-    (a zero leading coefficient) the missing ones may be NaN or inf.
+    (a zero leading coefficient) the missing ones may be NaN or inf; a cubic's roots come
+    twice, before and after polishing.
     """
     degree = coefficients.shape[0] - 1
     with np.errstate(all="ignore"):
@@ -151,7 +171,7 @@ def _candidates(coefficients: FloatArray, duration: float) -> FloatArray:
     if coefficients.shape[0] < 3:  # constant or linear: its ends
         return np.broadcast_to(ends, (2, n))
     inner = _roots(_derivative(coefficients))
-    inner = np.clip(np.nan_to_num(inner, nan=0.0, posinf=0.0, neginf=0.0), 0.0, duration)
+    inner = np.fmin(np.fmax(inner, 0.0), duration)  # NaN to 0, beyond the ends to the ends
     return np.concatenate([np.broadcast_to(ends, (2, n)), inner])
 
 
@@ -163,14 +183,17 @@ def _values(coefficients: FloatArray, times: FloatArray) -> FloatArray:
     return result
 
 
-def _extremes(coefficients: FloatArray, duration: float) -> tuple[FloatArray, FloatArray]:
-    """Smallest and largest value on [0, T] of each column, shapes (n,)."""
+def extremes(coefficients: FloatArray, duration: float) -> tuple[FloatArray, FloatArray]:
+    """Smallest and largest value on [0, T] [s] of each column (ascending powers), shapes (n,).
+
+    Exact: the values at both ends and wherever the derivative vanishes.
+    """
     values = _values(coefficients, _candidates(coefficients, duration))
     return values.min(axis=0), values.max(axis=0)
 
 
 def _abs_peak(coefficients: FloatArray, duration: float) -> FloatArray:
-    low, high = _extremes(coefficients, duration)
+    low, high = extremes(coefficients, duration)
     return np.maximum(high, -low)
 
 
@@ -189,7 +212,7 @@ def polynomial_peaks(coefficients: ArrayLike, duration: float) -> dict[str, Floa
     velocity = _derivative(coeffs)
     acceleration = _derivative(velocity)
     jerk = _derivative(acceleration)
-    low, high = _extremes(coeffs, duration)
+    low, high = extremes(coeffs, duration)
     return {
         "position_min": low,
         "position_max": high,
@@ -212,7 +235,7 @@ def _bernstein_matrix(degree: int) -> FloatArray:
     return matrix
 
 
-_BERNSTEIN = {degree: _bernstein_matrix(degree) for degree in range(1, 8)}
+_BERNSTEIN = {degree: _bernstein_matrix(degree) for degree in range(8)}
 
 
 def position_range(
@@ -235,13 +258,13 @@ def position_range(
     """
     degree = coefficients.shape[0] - 1
     if degree not in _BERNSTEIN:
-        return _extremes(coefficients, duration)
+        return extremes(coefficients, duration)
     scaled = coefficients * (duration ** np.arange(degree + 1.0))[:, None]
     hull = _BERNSTEIN[degree] @ scaled
     low, high = hull.min(axis=0), hull.max(axis=0)
     unsure = (lower - low > margin) | (high - upper > margin)
     if np.any(unsure):
-        exact_low, exact_high = _extremes(coefficients[:, unsure], duration)
+        exact_low, exact_high = extremes(coefficients[:, unsure], duration)
         low[unsure], high[unsure] = exact_low, exact_high
     return low, high
 
@@ -255,3 +278,77 @@ def rate_peaks(coefficients: FloatArray, duration: float) -> dict[str, FloatArra
         "acceleration": _abs_peak(acceleration, duration),
         "jerk": _abs_peak(_derivative(acceleration), duration),
     }
+
+
+#: Intervals of the grid on which :func:`rate_bounds` samples a polynomial over [0, T].
+_INTERVALS = 32
+_GRID = np.linspace(0.0, 1.0, _INTERVALS + 1)
+
+
+def _falling(i: int, order: int) -> float:
+    """The factor i (i - 1) ... (i - order + 1) that d^order/dx^order brings down from x^i."""
+    return float(math.perm(i, order))
+
+
+def _screen_matrix(degree: int) -> FloatArray:
+    """Rows that map b, the coefficients in normalised time x = t / T, to derivatives.
+
+    First the values of the first three derivatives on the grid, then the Bernstein
+    coefficients of the derivatives two orders higher (zero rows where there are none); shape
+    (3 (G + degree + 1), degree + 1).
+    """
+    size = degree + 1
+    grid = np.zeros((3, _GRID.size, size))
+    hull = np.zeros((3, size, size))
+    for k, order in enumerate((1, 2, 3)):
+        for i in range(order, size):
+            grid[k, :, i] = _falling(i, order) * _GRID ** (i - order)
+        higher = order + 2
+        if higher <= degree:
+            derivative = np.zeros((degree - higher + 1, size))
+            for i in range(higher, size):
+                derivative[i - higher, i] = _falling(i, higher)
+            hull[k, : degree - higher + 1] = (
+                _BERNSTEIN.get(degree - higher, np.ones((1, 1))) @ derivative
+            )
+    return np.concatenate([grid.reshape(-1, size), hull.reshape(-1, size)])
+
+
+_SCREENS = {degree: _screen_matrix(degree) for degree in (3, 5)}
+#: sum_i |b_i| i!/(i - k)!, for k = 1, 2, 3: what bounds the terms of a derivative on [0, 1].
+_TERMS = {
+    degree: np.array([[_falling(i, k) for i in range(degree + 1)] for k in (1, 2, 3)])
+    for degree in (3, 5)
+}
+#: Relative round-off allowed for in a grid value (the size of its terms times this).
+_ROUND_OFF = 1e-12
+
+
+def rate_bounds(coefficients: FloatArray, duration: float) -> tuple[FloatArray, FloatArray]:
+    """Lower and upper bounds on the peak |velocity|, |acceleration| and |jerk| on [0, T].
+
+    The lower bound is the largest value on a grid of spacing h = T / 32; the peak lies at
+    most h / 2 from a grid point where the derivative of the function vanishes, so it exceeds
+    that grid value by at most (h / 2)^2 / 2 times the largest second derivative, bounded by
+    the largest Bernstein coefficient of that second derivative. Both bounds allow for
+    round-off, 1e-12 of the size of the terms.
+
+    Args:
+        coefficients: Shape (d + 1, n), d = 3 or 5, row i multiplying t^i.
+        duration: T [s].
+
+    Returns:
+        (lower, upper), each shape (3, n): velocity, acceleration and jerk rows.
+    """
+    degree = coefficients.shape[0] - 1
+    n = coefficients.shape[1]
+    normalised = coefficients * (duration ** np.arange(degree + 1.0))[:, None]
+    values = np.abs(_SCREENS[degree] @ normalised)
+    cut = 3 * _GRID.size
+    lower = values[:cut].reshape(3, _GRID.size, n).max(axis=1)
+    curvature = values[cut:].reshape(3, degree + 1, n).max(axis=1)
+    scale = (duration ** -np.arange(1.0, 4.0))[:, None]
+    margin = 0.125 / _INTERVALS**2
+    terms = _TERMS[degree] @ np.abs(normalised)
+    rounding = _ROUND_OFF * terms
+    return (lower - rounding) * scale, (lower + margin * curvature + rounding) * scale

@@ -28,6 +28,7 @@ from optraj.planners.profiles.peaks import (
     REST_PEAKS,
     polynomial_peaks,
     position_range,
+    rate_bounds,
     rate_peaks,
     rest_to_rest_peaks,
 )
@@ -160,6 +161,10 @@ def _limit_error(
     )
 
 
+#: Row of each rate in :func:`~optraj.planners.profiles.peaks.rate_bounds`.
+_ROWS = {"velocity": 0, "acceleration": 1, "jerk": 2}
+
+
 def _at_rest(boundary: dict[str, FloatArray]) -> bool:
     """Whether every end velocity and acceleration of ``boundary`` is zero."""
     return not any(value.any() for value in boundary.values())
@@ -202,11 +207,12 @@ class _Polynomial(JointProfile):
         limits: JointLimits,
         slack: float = _SLACK,
         ends: tuple[FloatArray, FloatArray] | None = None,
+        bounds: tuple[FloatArray, FloatArray] | None = None,
     ) -> tuple[str, int, float, float] | None:
         """The worst limit broken as (quantity, joint, needed, allowed), or None.
 
         ``ends`` (q0, q1) says the move is the rest-to-rest one between them: its peaks then
-        have closed forms.
+        have closed forms. ``bounds`` are the rate bounds of ``coeffs`` if already known.
         """
         if ends is not None:
             peaks = rest_to_rest_peaks(ends[0], ends[1], duration, self.degree)
@@ -223,8 +229,47 @@ class _Polynomial(JointProfile):
             if excess[j] > 1e-9:
                 return "position", j, float(values[j]), float(bound[j])
         if ends is None:
-            peaks = rate_peaks(coeffs, duration)
+            peaks = self._screened_peaks(coeffs, duration, limits, slack, bounds)
+            if peaks is None:
+                return None
         return worst_rate_limit(peaks, limits, self.limited, slack)
+
+    def _screened_peaks(
+        self,
+        coeffs: FloatArray,
+        duration: float,
+        limits: JointLimits,
+        slack: float,
+        bounds: tuple[FloatArray, FloatArray] | None = None,
+    ) -> dict[str, FloatArray] | None:
+        """Rate peaks, exact for every joint that may break a limit; None if none may.
+
+        Joints whose upper bounds (:func:`~optraj.planners.profiles.peaks.rate_bounds`) keep
+        within every limit carry those bounds: they are below the threshold
+        :func:`worst_rate_limit` applies, so its answer is the one exact peaks give.
+        """
+        _, upper = bounds if bounds is not None else rate_bounds(coeffs, duration)
+        unsure = np.zeros(coeffs.shape[1], dtype=bool)
+        for quantity in self.limited:
+            unsure |= upper[_ROWS[quantity]] / getattr(limits, quantity) > 1.0 + slack
+        if not unsure.any():
+            return None
+        exact = rate_peaks(coeffs[:, unsure], duration)
+        peaks = {}
+        for quantity in self.limited:
+            values = upper[_ROWS[quantity]].copy()
+            values[unsure] = exact[quantity]
+            peaks[quantity] = values
+        return peaks
+
+    def _fits(self, coeffs: FloatArray, duration: float, limits: JointLimits) -> bool:
+        """Whether the move keeps every limit; a grid value beyond a rate limit says no at once."""
+        bounds = rate_bounds(coeffs, duration)
+        lower = bounds[0]
+        for quantity in self.limited:
+            if (lower[_ROWS[quantity]] / getattr(limits, quantity)).max() > 1.0 + _SLACK:
+                return False
+        return self._check(coeffs, duration, limits, bounds=bounds) is None
 
     def _shortest(
         self,
@@ -254,9 +299,15 @@ class _Polynomial(JointProfile):
                 # a tiny move lasts MIN_DURATION, the shortest duration any planner takes
                 return max(shortest * (1.0 + 1e-12), MIN_DURATION)
         high = 1e-3
-        while failure := self._check(self._coefficients(q0, q1, high, boundary), high, limits):
+        while not self._fits(self._coefficients(q0, q1, high, boundary), high, limits):
             high *= 2.0
             if high > 1e4:
+                last = high / 2.0
+                coeffs = self._coefficients(q0, q1, last, boundary)
+                # _fits said no; should round-off make the check pass, name the worst rate
+                failure = self._check(coeffs, last, limits) or worst_rate_limit(
+                    rate_peaks(coeffs, last), limits, self.limited, -1.0
+                )
                 quantity, j, needed, allowed = failure
                 raise _limit_error(
                     failure,
@@ -269,7 +320,7 @@ class _Polynomial(JointProfile):
             middle = 0.5 * (low + high)
             if middle <= 0.0:
                 break
-            if self._check(self._coefficients(q0, q1, middle, boundary), middle, limits) is None:
+            if self._fits(self._coefficients(q0, q1, middle, boundary), middle, limits):
                 high = middle
             else:
                 low = middle
