@@ -135,61 +135,58 @@ _THIRDS = (2.0 * np.pi / 3.0) * np.arange(3.0)[:, None]
 def _roots(coefficients: FloatArray) -> FloatArray:
     """Real parts of the roots of each column (ascending powers), shape (m, n), m >= degree.
 
-    Closed forms up to degree 3, companion eigenvalues above. Where a column has fewer roots
-    (a zero leading coefficient) the missing ones may be NaN or inf; a cubic's roots come
-    twice, before and after polishing.
+    Closed forms up to degree 3 (a cubic without constant terms is x times a quadratic),
+    companion eigenvalues above. Where a column has fewer roots (a zero leading coefficient)
+    the missing ones may be NaN or inf; a cubic's roots come twice, before and after
+    polishing. Call with floating-point warnings off.
     """
     degree = coefficients.shape[0] - 1
-    with np.errstate(all="ignore"):
-        if degree == 1:
-            return (-coefficients[0] / coefficients[1])[None]
-        if degree == 2:
-            return _quadratic_roots(*coefficients)
-        if degree == 3:
-            return _cubic_roots(coefficients)
-        lead = coefficients[-1]
-        full = lead != 0.0
-        n = coefficients.shape[1]
-        roots = np.full((degree, n), np.nan)
-        if np.any(full):
-            columns = coefficients[:, full]
-            companion = np.zeros((columns.shape[1], degree, degree))
-            companion[:, 0, :] = -(columns[-2::-1] / columns[-1]).T
-            companion[:, np.arange(1, degree), np.arange(degree - 1)] = 1.0
-            roots[:, full] = np.linalg.eigvals(companion).real.T
-        for j in np.flatnonzero(~full):
-            if np.any(coefficients[:, j] != 0.0):
-                found = np.roots(coefficients[::-1, j]).real
-                roots[: found.size, j] = found
-        return roots
-
-
-def _candidates(coefficients: FloatArray, duration: float) -> FloatArray:
-    """Times [s] that hold every extreme on [0, T] of each column, shape (m, n)."""
+    if degree == 1:
+        return (-coefficients[0] / coefficients[1])[None]
+    if degree == 2:
+        return _quadratic_roots(*coefficients)
+    if degree == 3:
+        if not coefficients[0].any():
+            return np.vstack(
+                [np.zeros((1, coefficients.shape[1])), _quadratic_roots(*coefficients[1:])]
+            )
+        return _cubic_roots(coefficients)
+    lead = coefficients[-1]
+    full = lead != 0.0
     n = coefficients.shape[1]
-    ends = np.array([[0.0], [duration]])
-    if coefficients.shape[0] < 3:  # constant or linear: its ends
-        return np.broadcast_to(ends, (2, n))
-    inner = _roots(_derivative(coefficients))
-    inner = np.fmin(np.fmax(inner, 0.0), duration)  # NaN to 0, beyond the ends to the ends
-    return np.concatenate([np.broadcast_to(ends, (2, n)), inner])
-
-
-def _values(coefficients: FloatArray, times: FloatArray) -> FloatArray:
-    """Each column's polynomial at its own times (m, n), Horner's scheme."""
-    result = np.broadcast_to(coefficients[-1], times.shape)
-    for row in coefficients[-2::-1]:
-        result = result * times + row
-    return result
+    roots = np.full((degree, n), np.nan)
+    if np.any(full):
+        columns = coefficients[:, full]
+        companion = np.zeros((columns.shape[1], degree, degree))
+        companion[:, 0, :] = -(columns[-2::-1] / columns[-1]).T
+        companion[:, np.arange(1, degree), np.arange(degree - 1)] = 1.0
+        roots[:, full] = np.linalg.eigvals(companion).real.T
+    for j in np.flatnonzero(~full):
+        if np.any(coefficients[:, j] != 0.0):
+            found = np.roots(coefficients[::-1, j]).real
+            roots[: found.size, j] = found
+    return roots
 
 
 def extremes(coefficients: FloatArray, duration: float) -> tuple[FloatArray, FloatArray]:
     """Smallest and largest value on [0, T] [s] of each column (ascending powers), shapes (n,).
 
-    Exact: the values at both ends and wherever the derivative vanishes.
+    Exact: the values at both ends and wherever the derivative vanishes (each column's
+    polynomial at its own candidate times, by Horner's scheme).
     """
-    values = _values(coefficients, _candidates(coefficients, duration))
-    return values.min(axis=0), values.max(axis=0)
+    degree = coefficients.shape[0] - 1
+    start = coefficients[0]
+    end = (duration ** np.arange(degree + 1.0)) @ coefficients
+    low, high = np.minimum(start, end), np.maximum(start, end)
+    if degree < 2:  # constant or linear: its ends
+        return low, high
+    with np.errstate(all="ignore"):
+        inner = _roots(_derivative(coefficients))
+    times = np.fmin(np.fmax(inner, 0.0), duration)  # NaN to 0, beyond the ends to the ends
+    values = coefficients[-1] * times + coefficients[-2]
+    for row in coefficients[-3::-1]:
+        values = values * times + row
+    return np.minimum(low, values.min(axis=0)), np.maximum(high, values.max(axis=0))
 
 
 def _abs_peak(coefficients: FloatArray, duration: float) -> FloatArray:

@@ -70,11 +70,19 @@ def cubic_coefficients(
         Shape (4, n), row i multiplying t^i.
     """
     p0, p1 = np.asarray(q0, float), np.asarray(q1, float)
-    d0, d1 = np.broadcast_to(v0, p0.shape), np.broadcast_to(v1, p0.shape)
+    d0, d1 = _row(v0, p0.shape), _row(v1, p0.shape)
     h = float(duration)
-    c2 = (3.0 * (p1 - p0) - (2.0 * d0 + d1) * h) / h**2
-    c3 = (2.0 * (p0 - p1) + (d0 + d1) * h) / h**3
+    dp = p1 - p0
+    c2 = (3.0 * dp - (2.0 * d0 + d1) * h) / h**2
+    c3 = ((d0 + d1) * h - 2.0 * dp) / h**3
     return np.stack([p0, d0, c2, c3])
+
+
+def _row(value: ArrayLike, shape: tuple[int, ...]) -> FloatArray:
+    """``value`` (a scalar or an array) as a float array of ``shape``."""
+    if type(value) is np.ndarray and value.shape == shape and value.dtype == np.float64:
+        return value
+    return np.broadcast_to(np.asarray(value, float), shape)
 
 
 def quintic_coefficients(
@@ -88,23 +96,34 @@ def quintic_coefficients(
 ) -> FloatArray:
     """Coefficients of the quintic meeting (q, qd, qdd) at t = 0 and t = T.
 
-    The three end conditions on c3, c4, c5 form a 3x3 linear system whose closed-form
+    The three end conditions on c3, c4, c5 form a 3x3 linear system in the gaps
+    dp = q1 - q0 - v0 T - a0 T^2 / 2, dv = v1 - v0 - a0 T and da = a1 - a0, whose closed-form
     solution is used here (the rest of the 6x6 system gives c0 = q0, c1 = v0, c2 = a0 / 2).
 
     Returns:
         Shape (6, n), row i multiplying t^i [rad/s^i or m/s^i].
     """
     p0, p1 = np.asarray(q0, float), np.asarray(q1, float)
-    d0, d1 = np.broadcast_to(v0, p0.shape), np.broadcast_to(v1, p0.shape)
-    b0, b1 = np.broadcast_to(a0, p0.shape), np.broadcast_to(a1, p0.shape)
+    d0, d1 = _row(v0, p0.shape), _row(v1, p0.shape)
+    b0, b1 = _row(a0, p0.shape), _row(a1, p0.shape)
     h = float(duration)
-    dp = p1 - p0 - d0 * h - 0.5 * b0 * h**2
-    dv = d1 - d0 - b0 * h
-    da = b1 - b0
-    c3 = (20.0 * dp - 8.0 * dv * h + da * h**2) / (2.0 * h**3)
-    c4 = (-30.0 * dp + 14.0 * dv * h - 2.0 * da * h**2) / (2.0 * h**4)
-    c5 = (12.0 * dp - 6.0 * dv * h + da * h**2) / (2.0 * h**5)
-    return np.stack([p0, d0, 0.5 * b0, c3, c4, c5])
+    coeffs = np.empty((6, *p0.shape))
+    coeffs[0], coeffs[1], coeffs[2] = p0, d0, 0.5 * b0
+    if b0.any() or b1.any():
+        gaps = [p1 - p0 - d0 * h - (0.5 * h * h) * b0, d1 - d0 - h * b0, b1 - b0]
+    else:
+        gaps = [p1 - p0 - d0 * h, d1 - d0, np.zeros(p0.shape)]
+    # (c3, c4, c5) = matrix @ (dp, dv, da), the 3x3 end conditions solved once for all
+    h2, h3 = h * h, h * h * h
+    matrix = np.array(
+        [
+            [10.0 / h3, -4.0 / h2, 0.5 / h],
+            [-15.0 / (h3 * h), 7.0 / h3, -1.0 / h2],
+            [6.0 / (h3 * h2), -3.0 / (h3 * h), 0.5 / h3],
+        ]
+    )
+    coeffs[3:] = np.tensordot(matrix, np.stack(gaps), axes=1)
+    return coeffs
 
 
 def worst_rate_limit(
@@ -208,15 +227,17 @@ class _Polynomial(JointProfile):
         slack: float = _SLACK,
         ends: tuple[FloatArray, FloatArray] | None = None,
         bounds: tuple[FloatArray, FloatArray] | None = None,
+        rates: bool = True,
     ) -> tuple[str, int, float, float] | None:
         """The worst limit broken as (quantity, joint, needed, allowed), or None.
 
         ``ends`` (q0, q1) says the move is the rest-to-rest one between them: its peaks then
         have closed forms. ``bounds`` are the rate bounds of ``coeffs`` if already known.
+        ``rates=False`` checks the positions alone (for a move whose rates fit by
+        construction).
         """
         if ends is not None:
-            peaks = rest_to_rest_peaks(ends[0], ends[1], duration, self.degree)
-            lowest, highest = peaks["position_min"], peaks["position_max"]
+            lowest, highest = np.minimum(*ends), np.maximum(*ends)  # a monotone move
         else:
             lowest, highest = position_range(coeffs, duration, limits.lower, limits.upper, 1e-9)
         below = limits.lower - lowest
@@ -228,10 +249,15 @@ class _Polynomial(JointProfile):
             j = int(excess.argmax())
             if excess[j] > 1e-9:
                 return "position", j, float(values[j]), float(bound[j])
-        if ends is None:
-            peaks = self._screened_peaks(coeffs, duration, limits, slack, bounds)
-            if peaks is None:
+        if not rates:
+            return None
+        if ends is not None:
+            peaks = rest_to_rest_peaks(ends[0], ends[1], duration, self.degree)
+        else:
+            screened = self._screened_peaks(coeffs, duration, limits, slack, bounds)
+            if screened is None:
                 return None
+            peaks = screened
         return worst_rate_limit(peaks, limits, self.limited, slack)
 
     def _screened_peaks(
@@ -346,11 +372,14 @@ class _Polynomial(JointProfile):
             InfeasibleError: A fixed duration that breaks a limit, or no duration that fits.
         """
         rest = rest or _at_rest(boundary)
+        shortest = duration is None
         if duration is None:
             duration = self._shortest(q0, q1, limits, boundary, rest)
         if rest:
             coeffs = self._rest_coefficients(q0, q1, duration)
-            failure = self._check(coeffs, duration, limits, ends=(q0, q1))
+            # The shortest rest-to-rest duration puts each rate peak at most 1 / (1 + 1e-12)
+            # of its limit (or was found by checking them): only the positions remain.
+            failure = self._check(coeffs, duration, limits, ends=(q0, q1), rates=not shortest)
         else:
             coeffs = self._coefficients(q0, q1, duration, boundary)
             failure = self._check(coeffs, duration, limits)
@@ -409,7 +438,12 @@ class _Polynomial(JointProfile):
             problem.require_motion(self.name)  # a goal that equals the start: refused at rest
         boundary = self._boundary(problem)
         duration = problem.duration if problem.duration is not None else self.duration
-        length, coeffs = self._timed(q0, q1, problem.limits, duration, boundary)
+        rest = (
+            problem.qdd_start is None
+            and problem.qdd_goal is None
+            and not (boundary["v0"].any() or boundary["v1"].any())
+        )
+        length, coeffs = self._timed(q0, q1, problem.limits, duration, boundary, rest=rest)
         traj = Trajectory(
             np.array([0.0, length]),
             coeffs[None],
