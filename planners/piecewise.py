@@ -9,7 +9,6 @@ The arrays are those of :class:`~optraj.planners.trajectory.Trajectory`: breakpo
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
@@ -85,8 +84,7 @@ def _checked_arrays(
     """Read-only copies of float64 arrays that pass every check of :func:`validated_pieces`.
 
     None for anything else (other types, or a failed check): the full checks then run and
-    raise. A finite sum means finite entries (any inf or NaN makes the sum inf or NaN); a
-    sum that overflows only sends finite values the long way.
+    raise.
     """
     if not (
         type(breakpoints) is np.ndarray
@@ -106,7 +104,7 @@ def _checked_arrays(
         return None
     if size > 2 and not (breakpoints[1:] > breakpoints[:-1]).all():
         return None
-    if not math.isfinite(float(np.add.reduce(coefficients, axis=None))):
+    if not np.isfinite(coefficients).all():
         return None
     knots, coeffs = breakpoints.copy(), coefficients.copy()
     knots.flags.writeable = False

@@ -288,6 +288,23 @@ class _Polynomial(JointProfile):
             peaks[quantity] = values
         return peaks
 
+    def _failure(
+        self, coeffs: FloatArray, duration: float, limits: JointLimits
+    ) -> tuple[str, int, float, float]:
+        """The limit broken by a move that :meth:`_fits` refuses, as :meth:`_check` gives it.
+
+        Should round-off make the check pass where a grid value broke a rate limit, that
+        grid value names the limit.
+        """
+        failure = self._check(coeffs, duration, limits)
+        if failure is not None:
+            return failure
+        lower = rate_bounds(coeffs, duration)[0]
+        ratios = {q: lower[_ROWS[q]] / getattr(limits, q) for q in self.limited}
+        quantity = max(ratios, key=lambda q: float(ratios[q].max()))
+        j = int(ratios[quantity].argmax())
+        return quantity, j, float(lower[_ROWS[quantity], j]), float(getattr(limits, quantity)[j])
+
     def _fits(self, coeffs: FloatArray, duration: float, limits: JointLimits) -> bool:
         """Whether the move keeps every limit; a grid value beyond a rate limit says no at once."""
         bounds = rate_bounds(coeffs, duration)
@@ -329,11 +346,7 @@ class _Polynomial(JointProfile):
             high *= 2.0
             if high > 1e4:
                 last = high / 2.0
-                coeffs = self._coefficients(q0, q1, last, boundary)
-                # _fits said no; should round-off make the check pass, name the worst rate
-                failure = self._check(coeffs, last, limits) or worst_rate_limit(
-                    rate_peaks(coeffs, last), limits, self.limited, -1.0
-                )
+                failure = self._failure(self._coefficients(q0, q1, last, boundary), last, limits)
                 quantity, j, needed, allowed = failure
                 raise _limit_error(
                     failure,
