@@ -23,6 +23,7 @@ from optraj.planners.base import (
     stamp,
 )
 from optraj.planners.profiles.contact_velocity import paddle_contact_velocity
+from optraj.planners.profiles.duration_search import bisect, shortest_in
 from optraj.planners.profiles.lspb import LSPB
 from optraj.planners.profiles.peaks import (
     REST_PEAKS,
@@ -326,8 +327,9 @@ class _Polynomial(JointProfile):
 
         Rest to rest, q(t) = q0 + (q1 - q0) s(t / T) for a fixed shape s, so the k-th
         derivative peaks scale exactly as 1 / T^k: the closed-form peaks at T = 1 give T.
-        With moving ends the shape changes with T: doubling, then bisection. A rest-to-rest
-        move lasts at least MIN_DURATION [s].
+        With moving ends the shape changes with T: doubling, then the bisection of
+        :mod:`~optraj.planners.profiles.duration_search`. A rest-to-rest move lasts at least
+        MIN_DURATION [s].
         """
         if rest:
             distance = np.abs(q1 - q0)
@@ -354,18 +356,37 @@ class _Polynomial(JointProfile):
                     f"no {self.name} of any duration keeps joint {limits.names[j]!r} within its "
                     f"{quantity} limit ({needed:.4g} needed, {allowed:.4g} allowed)",
                 )
-        low = high / 2.0 if high > 1e-3 else 0.0
-        for _ in range(60):
-            middle = 0.5 * (low + high)
-            if middle <= 0.0:
-                break
-            if self._fits(self._coefficients(q0, q1, middle, boundary), middle, limits):
-                high = middle
-            else:
-                low = middle
-            if high - low < 1e-9 * high:
-                break
-        return high
+
+        def fits(duration: float) -> bool:
+            return self._fits(self._coefficients(q0, q1, duration, boundary), duration, limits)
+
+        if high == 1e-3:  # the first try fits: halve down from it
+            return bisect(fits, 0.0, high)
+        return shortest_in(
+            fits, lambda duration: self._margin(q0, q1, duration, limits, boundary), high / 2, high
+        )
+
+    def _margin(
+        self,
+        q0: FloatArray,
+        q1: FloatArray,
+        duration: float,
+        limits: JointLimits,
+        boundary: dict[str, FloatArray],
+    ) -> float:
+        """How far the move of this duration [s] is from fitting, continuous in the duration.
+
+        > 0 exactly where :meth:`_check` finds a limit broken: the larger of the worst position
+        excess beyond 1e-9 [rad or m] and the logarithm of the worst rate peak over its limit
+        and 1 + slack (rate peaks go nearly as powers of T).
+        """
+        coeffs = self._coefficients(q0, q1, duration, boundary)
+        lowest, highest = position_range(coeffs, duration, limits.lower, limits.upper, 1e-9)
+        position = max(float((limits.lower - lowest).max()), float((highest - limits.upper).max()))
+        peaks = rate_peaks(coeffs, duration)
+        rate = max(float((peaks[q] / getattr(limits, q)).max()) for q in self.limited)
+        with np.errstate(divide="ignore"):  # no motion at all: log 0 = -inf, it fits
+            return max(position - 1e-9, float(np.log(rate / (1.0 + _SLACK))))
 
     def _timed(
         self,
