@@ -20,6 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 __all__ = [
     "REST_PEAKS",
     "extremes",
+    "peak_of",
     "polynomial_peaks",
     "position_range",
     "rate_bounds",
@@ -233,6 +234,29 @@ def _bernstein_matrix(degree: int) -> FloatArray:
 
 
 _BERNSTEIN = {degree: _bernstein_matrix(degree) for degree in range(8)}
+#: Pieces of [0, 1] whose Bernstein coefficients :func:`position_range` takes.
+_PIECES = 4
+
+
+def _piecewise_bernstein(degree: int) -> FloatArray:
+    """Rows mapping sum_i a_i x^i to its Bernstein coefficients on equal pieces of [0, 1].
+
+    Shape (_PIECES (degree + 1), degree + 1). On the piece [s, s + h], x = s + h u and the
+    power coefficients in u are sum_{i >= m} C(i, m) s^(i - m) h^m a_i.
+    """
+    h = 1.0 / _PIECES
+    rows = []
+    for piece in range(_PIECES):
+        start = piece * h
+        shift = np.zeros((degree + 1, degree + 1))
+        for m in range(degree + 1):
+            for i in range(m, degree + 1):
+                shift[m, i] = math.comb(i, m) * start ** (i - m) * h**m
+        rows.append(_BERNSTEIN[degree] @ shift)
+    return np.concatenate(rows)
+
+
+_PIECEWISE = {degree: _piecewise_bernstein(degree) for degree in range(8)}
 
 
 def position_range(
@@ -240,9 +264,10 @@ def position_range(
 ) -> tuple[FloatArray, FloatArray]:
     """Lowest and highest value on [0, T] of each column, exact where it may leave a box.
 
-    A polynomial on [0, T] lies within the range of its Bernstein coefficients; a column whose
-    range is within [lower - margin, upper + margin] gets that range (its extremes do not
-    leave the box by more than margin), every other column its exact extremes. A test
+    A polynomial lies within the range of its Bernstein coefficients on each of four equal
+    pieces of [0, T]; a column whose range is within [lower - margin, upper + margin] gets that
+    range (its extremes do not leave the box by more than margin), every other column its
+    exact extremes. A test
     ``lower - low > margin`` or ``high - upper > margin`` thus has the answer the exact
     extremes give.
 
@@ -257,13 +282,22 @@ def position_range(
     if degree not in _BERNSTEIN:
         return extremes(coefficients, duration)
     scaled = coefficients * (duration ** np.arange(degree + 1.0))[:, None]
-    hull = _BERNSTEIN[degree] @ scaled
+    hull = _PIECEWISE[degree] @ scaled
     low, high = hull.min(axis=0), hull.max(axis=0)
     unsure = (lower - low > margin) | (high - upper > margin)
     if np.any(unsure):
         exact_low, exact_high = extremes(coefficients[:, unsure], duration)
         low[unsure], high[unsure] = exact_low, exact_high
     return low, high
+
+
+def peak_of(quantity: str, coefficients: FloatArray, duration: float) -> FloatArray:
+    """Exact peak on [0, T] of |velocity|, |acceleration| or |jerk| (``quantity``), (n,)."""
+    order = {"velocity": 1, "acceleration": 2, "jerk": 3}[quantity]
+    derivative = coefficients
+    for _ in range(order):
+        derivative = _derivative(derivative)
+    return _abs_peak(derivative, duration)
 
 
 def rate_peaks(coefficients: FloatArray, duration: float) -> dict[str, FloatArray]:

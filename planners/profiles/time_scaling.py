@@ -27,6 +27,7 @@ from optraj.planners.profiles.duration_search import bisect, shortest_in
 from optraj.planners.profiles.lspb import LSPB
 from optraj.planners.profiles.peaks import (
     REST_PEAKS,
+    peak_of,
     polynomial_peaks,
     position_range,
     rate_bounds,
@@ -366,6 +367,23 @@ class _Polynomial(JointProfile):
             fits, lambda duration: self._margin(q0, q1, duration, limits, boundary), high / 2, high
         )
 
+    def _worst_ratio(self, coeffs: FloatArray, duration: float, limits: JointLimits) -> float:
+        """The largest rate peak over its limit, of any joint and limited quantity [-].
+
+        Exact; only the quantities whose grid bounds may reach the largest grid value over its
+        limit are solved for.
+        """
+        lower, upper = rate_bounds(coeffs, duration)
+        allowed = {q: getattr(limits, q) for q in self.limited}
+        floor = max(float((lower[_ROWS[q]] / allowed[q]).max()) for q in self.limited)
+        worst = floor
+        for quantity in self.limited:
+            row = _ROWS[quantity]
+            if float((upper[row] / allowed[quantity]).max()) >= floor:
+                peak = peak_of(quantity, coeffs, duration)
+                worst = max(worst, float((peak / allowed[quantity]).max()))
+        return worst
+
     def _margin(
         self,
         q0: FloatArray,
@@ -383,8 +401,7 @@ class _Polynomial(JointProfile):
         coeffs = self._coefficients(q0, q1, duration, boundary)
         lowest, highest = position_range(coeffs, duration, limits.lower, limits.upper, 1e-9)
         position = max(float((limits.lower - lowest).max()), float((highest - limits.upper).max()))
-        peaks = rate_peaks(coeffs, duration)
-        rate = max(float((peaks[q] / getattr(limits, q)).max()) for q in self.limited)
+        rate = self._worst_ratio(coeffs, duration, limits)
         with np.errstate(divide="ignore"):  # no motion at all: log 0 = -inf, it fits
             return max(position - 1e-9, float(np.log(rate / (1.0 + _SLACK))))
 

@@ -12,6 +12,7 @@ import pytest
 from optraj.planners.profiles.peaks import (
     REST_PEAKS,
     extremes,
+    peak_of,
     polynomial_peaks,
     position_range,
     rate_bounds,
@@ -140,6 +141,9 @@ def test_rate_bounds_bracket_the_exact_peaks(degree):
         exact = polynomial_peaks(coefficients, duration)
         lower, upper = rate_bounds(coefficients, duration)
         for row, quantity in enumerate(("velocity", "acceleration", "jerk")):
+            np.testing.assert_array_equal(
+                peak_of(quantity, coefficients, duration), exact[quantity]
+            )
             assert np.all(lower[row] <= exact[quantity]), quantity
             assert np.all(exact[quantity] <= upper[row]), quantity
             assert np.all(upper[row] - lower[row] <= 0.05 * exact[quantity] + 1e-12), quantity
