@@ -31,7 +31,6 @@ from optraj.planners.profiles.peaks import (
     polynomial_peaks,
     position_range,
     rate_bounds,
-    rate_peaks,
     rest_to_rest_peaks,
 )
 from optraj.planners.trajectory import Phase, Trajectory
@@ -272,21 +271,19 @@ class _Polynomial(JointProfile):
     ) -> dict[str, FloatArray] | None:
         """Rate peaks, exact for every joint that may break a limit; None if none may.
 
-        Joints whose upper bounds (:func:`~optraj.planners.profiles.peaks.rate_bounds`) keep
-        within every limit carry those bounds: they are below the threshold
-        :func:`worst_rate_limit` applies, so its answer is the one exact peaks give.
+        A joint whose upper bound (:func:`~optraj.planners.profiles.peaks.rate_bounds`) keeps
+        within a limit carries that bound: it is below the threshold :func:`worst_rate_limit`
+        applies, so its answer is the one exact peaks give.
         """
         _, upper = bounds if bounds is not None else rate_bounds(coeffs, duration)
-        unsure = np.zeros(coeffs.shape[1], dtype=bool)
-        for quantity in self.limited:
-            unsure |= upper[_ROWS[quantity]] / getattr(limits, quantity) > 1.0 + slack
-        if not unsure.any():
+        unsure = {q: upper[_ROWS[q]] / getattr(limits, q) > 1.0 + slack for q in self.limited}
+        if not any(mask.any() for mask in unsure.values()):
             return None
-        exact = rate_peaks(coeffs[:, unsure], duration)
         peaks = {}
-        for quantity in self.limited:
+        for quantity, mask in unsure.items():
             values = upper[_ROWS[quantity]].copy()
-            values[unsure] = exact[quantity]
+            if mask.any():
+                values[mask] = peak_of(quantity, coeffs[:, mask], duration)
             peaks[quantity] = values
         return peaks
 
