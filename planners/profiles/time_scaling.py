@@ -341,7 +341,12 @@ class _Polynomial(JointProfile):
             if shortest > 0.0:
                 # a tiny move lasts MIN_DURATION, the shortest duration any planner takes
                 return max(shortest * (1.0 + 1e-12), MIN_DURATION)
+        # Below |q1 - q0| / vmax the mean velocity, so the peak, is beyond a limit: those
+        # durations of the doubling fail without a check.
+        floor = float((np.abs(q1 - q0) / limits.velocity).max()) / (1.0 + _SLACK) * (1.0 - 1e-12)
         high = 1e-3
+        while high < floor and high * 2.0 <= 1e4:
+            high *= 2.0
         while not self._fits(self._coefficients(q0, q1, high, boundary), high, limits):
             high *= 2.0
             if high > 1e4:

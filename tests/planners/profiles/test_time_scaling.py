@@ -286,3 +286,17 @@ def test_a_start_speeding_into_a_limit_fits_no_duration(profile, name):
         profile.plan(problem)
     assert info.value.limit == "position" and info.value.joint == limits.names[1]
     assert info.value.required > info.value.allowed == limits.upper[1]
+
+
+@pytest.mark.parametrize(("profile", "name"), [(Cubic(), "cubic"), (Quintic(), "quintic")])
+def test_a_move_too_long_for_any_duration_names_the_velocity_limit(profile, name):
+    robot = get_robot("panda")
+    limits = dataclasses.replace(robot.limits, velocity=np.full(robot.dof, 1e-5))
+    q0 = (limits.lower + limits.upper) / 2
+    # at 1e-5 rad/s, 0.3 rad take 3e4 s: beyond the longest duration tried
+    problem = problems.PointToPoint(
+        robot, q0, q0 + 0.3, qd_start=np.full(robot.dof, 1e-6), limits=limits
+    )
+    with pytest.raises(InfeasibleError, match=f"no {name} of any duration keeps joint") as info:
+        profile.plan(problem)
+    assert info.value.limit == "velocity" and info.value.required > info.value.allowed == 1e-5
