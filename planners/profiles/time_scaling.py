@@ -123,7 +123,7 @@ def quintic_coefficients(
             [6.0 / (h3 * h2), -3.0 / (h3 * h), 0.5 / h3],
         ]
     )
-    coeffs[3:] = np.tensordot(matrix, np.stack(gaps), axes=1)
+    coeffs[3:] = (matrix @ np.stack(gaps).reshape(3, -1)).reshape((3, *p0.shape))
     return coeffs
 
 
@@ -414,17 +414,18 @@ class _Polynomial(JointProfile):
         limits: JointLimits,
         duration: float | None,
         boundary: dict[str, FloatArray],
-        rest: bool = False,
+        rest: bool | None = None,
     ) -> tuple[float, FloatArray]:
         """Duration [s] and coefficients (degree + 1, n) of one move within the limits.
 
-        ``rest`` says that every value of ``boundary`` is zero (the rest-to-rest closed forms
-        then apply); False leaves that to be found out.
+        ``rest`` says whether every value of ``boundary`` is zero (the rest-to-rest closed
+        forms then apply); None leaves that to be found out.
 
         Raises:
             InfeasibleError: A fixed duration that breaks a limit, or no duration that fits.
         """
-        rest = rest or _at_rest(boundary)
+        if rest is None:
+            rest = _at_rest(boundary)
         shortest = duration is None
         if duration is None:
             duration = self._shortest(q0, q1, limits, boundary, rest)
