@@ -436,7 +436,8 @@ class _Polynomial(JointProfile):
             failure = self._check(coeffs, duration, limits, ends=(q0, q1), rates=not shortest)
         else:
             coeffs = self._coefficients(q0, q1, duration, boundary)
-            failure = self._check(coeffs, duration, limits)
+            # a duration the search returns has passed this very check
+            failure = None if shortest else self._check(coeffs, duration, limits)
         if failure is not None:
             raise rate_limit_error(failure, limits, f"{self.name} in {duration:.4g} s")
         return duration, coeffs
