@@ -182,11 +182,7 @@ class Trajectory:
         self.metadata: dict[str, Any] = data
 
     def _expand(self) -> tuple[FloatArray, list[FloatArray]]:
-        """Breakpoints and coefficients, built once.
-
-        The coefficients of q, and of its three derivatives once :attr:`_coeffs` has been read
-        (a trajectory that is never sampled needs no derivatives).
-        """
+        """Breakpoints and coefficients of q (of its derivatives too once sampled), built once."""
         pieces = self._pieces
         if pieces is None:
             # Without polynomials a trajectory always has its builder.

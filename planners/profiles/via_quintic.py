@@ -19,7 +19,8 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from optraj.planners.profiles.peaks import extremes, position_range
+from optraj.planners.profiles.peak_bounds import position_range
+from optraj.planners.profiles.peaks import extremes
 from optraj.planners.profiles.via_segments import (
     ROUND_OFF,
     TimingIssue,
@@ -192,7 +193,7 @@ def _position_issues(b: FloatArray, limits: JointLimits) -> list[TimingIssue]:
     """Segments whose quintic leaves the position limits (worst joint of each).
 
     Extremes are exact wherever the quintic may leave the limits by more than 1e-9
-    (:func:`~optraj.planners.profiles.peaks.position_range`), so the test below is exact.
+    (:func:`~optraj.planners.profiles.peak_bounds.position_range`), so the test below is exact.
     """
     m, size, n = b.shape
     low, high = position_range(

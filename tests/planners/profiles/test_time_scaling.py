@@ -14,9 +14,7 @@ from optraj.planners.checker import check
 from optraj.planners.profiles.time_scaling import (
     Cubic,
     Quintic,
-    cubic_coefficients,
     polynomial_peaks,
-    quintic_coefficients,
     worst_rate_limit,
 )
 
@@ -56,25 +54,6 @@ def test_seed_table_other_corners(ball):
         s = row[1] / 0.3911
         np.testing.assert_allclose(traj.sample(t).q, HOME + s * (goal - HOME), atol=2e-4)
     np.testing.assert_allclose(traj.sample(2.0).q, goal, atol=1e-4)
-
-
-def test_boundary_conditions_met_for_random_data():
-    rng = np.random.default_rng(5)
-    for _ in range(200):
-        q0, q1, v0, v1, a0, a1 = rng.uniform(-2, 2, size=(6, 4))
-        T = rng.uniform(0.2, 3.0)
-        for coeffs, states in (
-            (quintic_coefficients(q0, q1, T, v0, v1, a0, a1), (q0, v0, a0, q1, v1, a1)),
-            (cubic_coefficients(q0, q1, T, v0, v1), (q0, v0, None, q1, v1, None)),
-        ):
-            poly = np.polynomial.polynomial
-            for t, (q, v, a) in ((0.0, states[:3]), (T, states[3:])):
-                np.testing.assert_allclose(poly.polyval(t, coeffs), q, atol=1e-10)
-                np.testing.assert_allclose(poly.polyval(t, poly.polyder(coeffs)), v, atol=1e-10)
-                if a is not None:
-                    np.testing.assert_allclose(
-                        poly.polyval(t, poly.polyder(coeffs, 2)), a, atol=1e-9
-                    )
 
 
 def _limits(robot, rng):
