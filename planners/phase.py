@@ -39,7 +39,9 @@ class Phase:
             )
         for field in ("t_start", "t_end"):
             value = getattr(self, field)
-            if type(value) is not float or not math.isfinite(value):  # a finite float is kept
+            if isinstance(value, float) and math.isfinite(value):  # a NumPy float64 too
+                value = float(value)
+            else:
                 value = as_number(value, f"phase {self.name!r} {field}", "s")
             object.__setattr__(self, field, value)
         if self.t_end < self.t_start:

@@ -37,6 +37,7 @@ def test_a_non_finite_float_time_is_refused(bad):
 def test_times_are_kept_as_python_floats():
     phase = Phase("a", np.float64(0.25), 1)
     assert type(phase.t_start) is float and type(phase.t_end) is float
+    assert type(Phase("c", np.float64(0.5), np.float32(1.0)).t_end) is float
     assert (phase.t_start, phase.t_end) == (0.25, 1.0)
     assert Phase("b", 0.5, 2.0).t_end == 2.0
 
