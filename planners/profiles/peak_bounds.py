@@ -67,9 +67,8 @@ def position_range(
     A polynomial lies within the range of its Bernstein coefficients on each of four equal
     pieces of [0, T]; a column whose range is within [lower - margin, upper + margin] gets that
     range (its extremes do not leave the box by more than margin), every other column its
-    exact extremes. A test
-    ``lower - low > margin`` or ``high - upper > margin`` thus has the answer the exact
-    extremes give.
+    exact extremes. A test ``lower - low > margin`` or ``high - upper > margin`` thus has the
+    answer the exact extremes give.
 
     Args:
         coefficients: Shape (d + 1, n), row i multiplying t^i.

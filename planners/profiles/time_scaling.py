@@ -3,9 +3,11 @@
 A cubic meets positions and velocities at both ends (the ECE486 seed uses the rest-to-rest
 form s(t) = 3 (t/T)^2 - 2 (t/T)^3); a quintic also meets accelerations (Coursework 3 Q1a solves
 its 6x6 system; here it is solved in closed form). Without a fixed duration, the shortest one
-whose velocity, acceleration (and, for the quintic, jerk) peaks fit the limits is found; the
-peaks are evaluated exactly at the roots of the derivative polynomials
-(:mod:`optraj.planners.profiles.peaks`), in closed form when the move starts and ends at rest.
+whose velocity, acceleration (and, for the quintic, jerk) peaks fit the limits is found. Rest
+to rest, the peaks have closed forms; with moving ends they are exact at the roots of the
+derivative polynomials (:mod:`optraj.planners.profiles.peaks`), sought only for the joints
+whose cheap bounds (:mod:`optraj.planners.profiles.peak_bounds`) may reach a limit, so every
+answer is the one exact peaks give.
 """
 
 from __future__ import annotations
