@@ -7,6 +7,7 @@ name through :meth:`~optraj.planners.trajectory.Trajectory.phase`. :func:`shifte
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
@@ -37,7 +38,11 @@ class Phase:
                 name="phases",
             )
         for field in ("t_start", "t_end"):
-            value = as_number(getattr(self, field), f"phase {self.name!r} {field}", "s")
+            value = getattr(self, field)
+            if isinstance(value, float) and math.isfinite(value):  # a NumPy float64 too
+                value = float(value)
+            else:
+                value = as_number(value, f"phase {self.name!r} {field}", "s")
             object.__setattr__(self, field, value)
         if self.t_end < self.t_start:
             raise InvalidInputError(

@@ -38,11 +38,17 @@ def validated_pieces(
 ) -> tuple[FloatArray, FloatArray]:
     """Breakpoints and coefficients checked against each other, as read-only arrays.
 
+    Float arrays that pass every check take a shorter path (:func:`_checked_arrays`); anything
+    else, and anything that fails, goes through the checks below, which name the fault.
+
     Raises:
         InvalidInputError: Not one coefficient row per segment, no term or no joint,
             breakpoints that do not strictly increase from 0 or end beyond MAX_DURATION,
             or non-finite values.
     """
+    checked = _checked_arrays(breakpoints, coefficients)
+    if checked is not None:
+        return checked
     knots = as_vector(breakpoints, "breakpoints")
     coeffs = as_array(coefficients, "coefficients", (None, None, None))
     if knots.size < 2 or coeffs.shape[0] != knots.size - 1:
@@ -68,6 +74,44 @@ def validated_pieces(
     return knots, coeffs
 
 
+#: Native float64, the one element type :func:`_checked_arrays` takes.
+_FLOAT = np.dtype(np.float64)
+
+
+def _checked_arrays(
+    breakpoints: ArrayLike, coefficients: ArrayLike
+) -> tuple[FloatArray, FloatArray] | None:
+    """Read-only copies of float64 arrays that pass every check of :func:`validated_pieces`.
+
+    None for anything else (other types, or a failed check): the full checks then run and
+    raise.
+    """
+    if not (
+        type(breakpoints) is np.ndarray
+        and type(coefficients) is np.ndarray
+        and breakpoints.dtype is _FLOAT
+        and coefficients.dtype is _FLOAT
+        and breakpoints.ndim == 1
+        and coefficients.ndim == 3
+    ):
+        return None
+    size = breakpoints.shape[0]
+    shape = coefficients.shape
+    if size < 2 or shape[0] != size - 1 or shape[1] < 1 or shape[2] < 1:
+        return None
+    last = float(breakpoints[-1])
+    if breakpoints[0] != 0.0 or not 0.0 < last <= MAX_DURATION:
+        return None
+    if size > 2 and not (breakpoints[1:] > breakpoints[:-1]).all():
+        return None
+    if not np.isfinite(coefficients).all():
+        return None
+    knots, coeffs = breakpoints.copy(), coefficients.copy()
+    knots.flags.writeable = False
+    coeffs.flags.writeable = False
+    return knots, coeffs
+
+
 def built_pieces(
     build: Callable[[], tuple[ArrayLike, ArrayLike]], duration: float, dof: int
 ) -> tuple[FloatArray, FloatArray]:
@@ -87,12 +131,18 @@ def built_pieces(
     return knots, coeffs
 
 
+#: The powers 1 .. d that differentiate a polynomial of degree d, for the common degrees.
+_POWERS = {degree: np.arange(1.0, degree + 1.0)[None, :, None] for degree in range(1, 8)}
+
+
 def _derivative(coefficients: FloatArray) -> FloatArray:
     """Coefficients of the time derivative, one degree lower (at least degree 0)."""
     degree = coefficients.shape[1] - 1
     if degree == 0:
         return np.zeros_like(coefficients)
-    powers = np.arange(1, degree + 1, dtype=float)[None, :, None]
+    powers = _POWERS.get(degree)
+    if powers is None:
+        powers = np.arange(1, degree + 1, dtype=float)[None, :, None]
     return coefficients[:, 1:, :] * powers
 
 

@@ -113,7 +113,7 @@ class Trajectory:
     ) -> None:
         knots, coeffs = validated_pieces(breakpoints, coefficients)
         self._build: Callable[[], tuple[ArrayLike, ArrayLike]] | None = None
-        self._pieces: tuple[FloatArray, list[FloatArray]] | None = (knots, with_derivatives(coeffs))
+        self._pieces: tuple[FloatArray, list[FloatArray]] | None = (knots, [coeffs])
         self._duration = float(knots[-1])
         self._describe(coeffs.shape[2], joint_names, phases, metadata)
 
@@ -182,13 +182,13 @@ class Trajectory:
         self.metadata: dict[str, Any] = data
 
     def _expand(self) -> tuple[FloatArray, list[FloatArray]]:
-        """Breakpoints and the coefficients of q and its three derivatives (built once)."""
+        """Breakpoints and coefficients of q (of its derivatives too once sampled), built once."""
         pieces = self._pieces
         if pieces is None:
             # Without polynomials a trajectory always has its builder.
             build = cast(Callable[[], tuple[ArrayLike, ArrayLike]], self._build)
             knots, coeffs = built_pieces(build, self._duration, self._dof)
-            pieces = (knots, with_derivatives(coeffs))
+            pieces = (knots, [coeffs])
             self._pieces = pieces
             self._build = None
         return pieces
@@ -199,7 +199,11 @@ class Trajectory:
 
     @property
     def _coeffs(self) -> list[FloatArray]:
-        return self._expand()[1]
+        """Coefficients of q and of its first three time derivatives (derived once)."""
+        polynomials = self._expand()[1]
+        if len(polynomials) < 4:
+            polynomials[:] = with_derivatives(polynomials[0])
+        return polynomials
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         """Restore a pickled trajectory.
@@ -238,7 +242,7 @@ class Trajectory:
     @property
     def coefficients(self) -> FloatArray:
         """Position polynomial coefficients, shape (K, d + 1, n) (read-only)."""
-        return self._coeffs[0]
+        return self._expand()[1][0]
 
     @property
     def duration(self) -> float:
@@ -253,7 +257,7 @@ class Trajectory:
     @property
     def degree(self) -> int:
         """Polynomial degree of the segments."""
-        return int(self._coeffs[0].shape[1] - 1)
+        return int(self._expand()[1][0].shape[1] - 1)
 
     def __repr__(self) -> str:
         planner = self.metadata.get("planner", "?")

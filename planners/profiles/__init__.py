@@ -2,7 +2,9 @@
 
 Import the planners from :mod:`optraj.planners`; the modules here hold their pieces:
 
-* ``time_scaling``: :class:`Cubic` and :class:`Quintic`, with their coefficients and peaks.
+* ``time_scaling``: :class:`Cubic` and :class:`Quintic`, with their coefficients; ``peaks``:
+  exact polynomial peaks (``roots`` finds the roots, ``peak_bounds`` spares most of them);
+  ``duration_search``: the shortest duration of a move with moving ends.
 * ``lspb``: :class:`LSPB` and :func:`lspb_trajectory`; ``lspb_timing``: its closed forms.
 * ``via_points``: :class:`ViaPoints`; ``via_lspb`` and ``via_quintic``: its two profiles;
   ``via_segments``: what they share.

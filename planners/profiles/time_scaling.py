@@ -3,8 +3,11 @@
 A cubic meets positions and velocities at both ends (the ECE486 seed uses the rest-to-rest
 form s(t) = 3 (t/T)^2 - 2 (t/T)^3); a quintic also meets accelerations (Coursework 3 Q1a solves
 its 6x6 system; here it is solved in closed form). Without a fixed duration, the shortest one
-whose velocity, acceleration (and, for the quintic, jerk) peaks fit the limits is found; the
-peaks are evaluated exactly at the roots of the derivative polynomials.
+whose velocity, acceleration (and, for the quintic, jerk) peaks fit the limits is found. Rest
+to rest, the peaks have closed forms; with moving ends they are exact at the roots of the
+derivative polynomials (:mod:`optraj.planners.profiles.peaks`), sought only for the joints
+whose cheap bounds (:mod:`optraj.planners.profiles.peak_bounds`) may reach a limit, so every
+answer is the one exact peaks give.
 """
 
 from __future__ import annotations
@@ -22,9 +25,22 @@ from optraj.planners.base import (
     stamp,
 )
 from optraj.planners.profiles.contact_velocity import paddle_contact_velocity
+from optraj.planners.profiles.duration_search import bisect, shortest_in
 from optraj.planners.profiles.lspb import LSPB
+from optraj.planners.profiles.peak_bounds import position_range, rate_bounds
+from optraj.planners.profiles.peaks import (
+    REST_PEAKS,
+    peak_of,
+    polynomial_peaks,
+    rest_to_rest_peaks,
+)
+from optraj.planners.profiles.polynomial_coefficients import (
+    cubic_coefficients,
+    quintic_coefficients,
+)
 from optraj.planners.trajectory import Phase, Trajectory
 from optraj.problems import PaddleStrike, PointToPoint
+from optraj.problems.point_to_point import STILL_TOLERANCE
 from optraj.robots import JointLimits
 from optraj.validation import MIN_DURATION, as_duration
 
@@ -42,119 +58,6 @@ FloatArray = NDArray[np.float64]
 
 #: Relative slack on limits when searching for the shortest duration (round-off only).
 _SLACK = 1e-9
-
-
-def cubic_coefficients(
-    q0: ArrayLike, q1: ArrayLike, duration: float, v0: ArrayLike = 0.0, v1: ArrayLike = 0.0
-) -> FloatArray:
-    """Coefficients of q(t) = c0 + c1 t + c2 t^2 + c3 t^3 meeting (q, qd) at t = 0 and T.
-
-    Args:
-        q0: Start positions [rad or m], shape (n,).
-        q1: End positions, shape (n,).
-        duration: T [s].
-        v0: Start velocities [rad/s or m/s], shape (n,) or scalar.
-        v1: End velocities, shape (n,) or scalar.
-
-    Returns:
-        Shape (4, n), row i multiplying t^i.
-    """
-    p0, p1 = np.asarray(q0, float), np.asarray(q1, float)
-    d0, d1 = np.broadcast_to(v0, p0.shape), np.broadcast_to(v1, p0.shape)
-    h = float(duration)
-    c2 = (3.0 * (p1 - p0) - (2.0 * d0 + d1) * h) / h**2
-    c3 = (2.0 * (p0 - p1) + (d0 + d1) * h) / h**3
-    return np.stack([p0, d0, c2, c3])
-
-
-def quintic_coefficients(
-    q0: ArrayLike,
-    q1: ArrayLike,
-    duration: float,
-    v0: ArrayLike = 0.0,
-    v1: ArrayLike = 0.0,
-    a0: ArrayLike = 0.0,
-    a1: ArrayLike = 0.0,
-) -> FloatArray:
-    """Coefficients of the quintic meeting (q, qd, qdd) at t = 0 and t = T.
-
-    The three end conditions on c3, c4, c5 form a 3x3 linear system whose closed-form
-    solution is used here (the rest of the 6x6 system gives c0 = q0, c1 = v0, c2 = a0 / 2).
-
-    Returns:
-        Shape (6, n), row i multiplying t^i [rad/s^i or m/s^i].
-    """
-    p0, p1 = np.asarray(q0, float), np.asarray(q1, float)
-    d0, d1 = np.broadcast_to(v0, p0.shape), np.broadcast_to(v1, p0.shape)
-    b0, b1 = np.broadcast_to(a0, p0.shape), np.broadcast_to(a1, p0.shape)
-    h = float(duration)
-    dp = p1 - p0 - d0 * h - 0.5 * b0 * h**2
-    dv = d1 - d0 - b0 * h
-    da = b1 - b0
-    c3 = (20.0 * dp - 8.0 * dv * h + da * h**2) / (2.0 * h**3)
-    c4 = (-30.0 * dp + 14.0 * dv * h - 2.0 * da * h**2) / (2.0 * h**4)
-    c5 = (12.0 * dp - 6.0 * dv * h + da * h**2) / (2.0 * h**5)
-    return np.stack([p0, d0, 0.5 * b0, c3, c4, c5])
-
-
-def _derivative(coefficients: FloatArray) -> FloatArray:
-    powers = np.arange(1, coefficients.shape[0], dtype=float)[:, None]
-    return coefficients[1:] * powers
-
-
-def _abs_max(coefficients: FloatArray, duration: float) -> tuple[FloatArray, FloatArray]:
-    """Largest |p(t)| on [0, T] per column and where it occurs (endpoints or stationary points)."""
-    n = coefficients.shape[1]
-    peaks = np.zeros(n)
-    times = np.zeros(n)
-    slope = _derivative(coefficients) if coefficients.shape[0] > 1 else None
-    for j in range(n):
-        candidates = [0.0, duration]
-        if slope is not None and np.any(slope[:, j] != 0.0):
-            roots = np.roots(slope[::-1, j])
-            real = roots[np.abs(roots.imag) < 1e-9].real
-            candidates.extend(t for t in real if 0.0 < t < duration)
-        values = np.abs(np.polynomial.polynomial.polyval(np.array(candidates), coefficients[:, j]))
-        k = int(np.argmax(values))
-        peaks[j], times[j] = values[k], candidates[k]
-    return peaks, times
-
-
-def polynomial_peaks(coefficients: ArrayLike, duration: float) -> dict[str, FloatArray]:
-    """Exact peak |velocity|, |acceleration| and |jerk| of one polynomial per joint on [0, T].
-
-    Args:
-        coefficients: Shape (d + 1, n), row i multiplying t^i.
-        duration: T [s].
-
-    Returns:
-        ``{"position_min", "position_max", "velocity", "acceleration", "jerk"}``, each shape
-        (n,) (absolute peaks for the derivatives).
-    """
-    coeffs = np.asarray(coefficients, float)
-    velocity = _derivative(coeffs)
-    acceleration = (
-        _derivative(velocity) if velocity.shape[0] > 1 else np.zeros((1, coeffs.shape[1]))
-    )
-    jerk = (
-        _derivative(acceleration) if acceleration.shape[0] > 1 else np.zeros((1, coeffs.shape[1]))
-    )
-    # Position extremes: endpoints and roots of the velocity.
-    lows, highs = np.empty(coeffs.shape[1]), np.empty(coeffs.shape[1])
-    for j in range(coeffs.shape[1]):
-        candidates = [0.0, duration]
-        if np.any(velocity[:, j] != 0.0):
-            roots = np.roots(velocity[::-1, j])
-            candidates.extend(r.real for r in roots if abs(r.imag) < 1e-9 and 0 < r.real < duration)
-        values = np.polynomial.polynomial.polyval(np.array(candidates), coeffs[:, j])
-        lows[j], highs[j] = values.min(), values.max()
-    return {
-        "position_min": lows,
-        "position_max": highs,
-        "velocity": _abs_max(velocity, duration)[0],
-        "acceleration": _abs_max(acceleration, duration)[0],
-        "jerk": _abs_max(jerk, duration)[0],
-    }
 
 
 def worst_rate_limit(
@@ -176,7 +79,7 @@ def worst_rate_limit(
     for quantity in quantities:
         allowed = getattr(limits, quantity)
         ratio = peaks[quantity] / allowed
-        j = int(np.argmax(ratio))
+        j = int(ratio.argmax())
         if ratio[j] > worst_ratio:
             worst = (quantity, j, float(peaks[quantity][j]), float(allowed[j]))
             worst_ratio = float(ratio[j])
@@ -211,12 +114,23 @@ def _limit_error(
     )
 
 
+#: Row of each rate in :func:`~optraj.planners.profiles.peak_bounds.rate_bounds`.
+_ROWS = {"velocity": 0, "acceleration": 1, "jerk": 2}
+
+
+def _at_rest(boundary: dict[str, FloatArray]) -> bool:
+    """Whether every end velocity and acceleration of ``boundary`` is zero."""
+    return not any(value.any() for value in boundary.values())
+
+
 class _Polynomial(JointProfile):
     """Shared machinery of the cubic and quintic scalings."""
 
     degree = 3
     #: Which limits the profile keeps (a cubic's jerk is not bounded at its ends).
     limited: tuple[str, ...] = ("velocity", "acceleration")
+    #: The rest-to-rest shape s(x) on [0, 1], ascending powers of x.
+    shape: tuple[float, ...] = (0.0, 0.0, 3.0, -2.0)
 
     def __init__(self, duration: float | None = None) -> None:
         """Args: duration: Fixed duration [s] for every move, or None (shortest in limits)."""
@@ -228,51 +142,149 @@ class _Polynomial(JointProfile):
     ) -> FloatArray:
         raise NotImplementedError
 
+    def _rest_coefficients(self, q0: FloatArray, q1: FloatArray, duration: float) -> FloatArray:
+        """Coefficients of q0 + (q1 - q0) s(t / T), shape (degree + 1, n).
+
+        The rest-to-rest move: :meth:`_coefficients` with zero end rates, up to round-off.
+        """
+        shape = np.array(self.shape)
+        scale = shape / duration ** np.arange(shape.size, dtype=float)
+        coeffs = np.multiply.outer(scale, q1 - q0)
+        coeffs[0] = q0
+        return coeffs
+
     def _check(
         self,
         coeffs: FloatArray,
         duration: float,
         limits: JointLimits,
         slack: float = _SLACK,
+        ends: tuple[FloatArray, FloatArray] | None = None,
+        bounds: tuple[FloatArray, FloatArray] | None = None,
+        rates: bool = True,
     ) -> tuple[str, int, float, float] | None:
-        """The worst limit broken as (quantity, joint, needed, allowed), or None."""
-        peaks = polynomial_peaks(coeffs, duration)
-        below = limits.lower - peaks["position_min"]
-        above = peaks["position_max"] - limits.upper
+        """The worst limit broken as (quantity, joint, needed, allowed), or None.
+
+        ``ends`` (q0, q1) says the move is the rest-to-rest one between them: its peaks then
+        have closed forms. ``bounds`` are the rate bounds of ``coeffs`` if already known.
+        ``rates=False`` checks the positions alone (for a move whose rates fit by
+        construction).
+        """
+        if ends is not None:
+            lowest, highest = np.minimum(*ends), np.maximum(*ends)  # a monotone move
+        else:
+            lowest, highest = position_range(coeffs, duration, limits.lower, limits.upper, 1e-9)
+        below = limits.lower - lowest
+        above = highest - limits.upper
         for excess, values, bound in (
-            (below, peaks["position_min"], limits.lower),
-            (above, peaks["position_max"], limits.upper),
+            (below, lowest, limits.lower),
+            (above, highest, limits.upper),
         ):
-            j = int(np.argmax(excess))
+            j = int(excess.argmax())
             if excess[j] > 1e-9:
                 return "position", j, float(values[j]), float(bound[j])
+        if not rates:
+            return None
+        if ends is not None:
+            peaks = rest_to_rest_peaks(ends[0], ends[1], duration, self.degree)
+        else:
+            screened = self._screened_peaks(coeffs, duration, limits, slack, bounds)
+            if screened is None:
+                return None
+            peaks = screened
         return worst_rate_limit(peaks, limits, self.limited, slack)
 
+    def _screened_peaks(
+        self,
+        coeffs: FloatArray,
+        duration: float,
+        limits: JointLimits,
+        slack: float,
+        bounds: tuple[FloatArray, FloatArray] | None = None,
+    ) -> dict[str, FloatArray] | None:
+        """Rate peaks, exact for every joint that may break a limit; None if none may.
+
+        A joint whose upper bound (:func:`~optraj.planners.profiles.peak_bounds.rate_bounds`) keeps
+        within a limit carries that bound: it is below the threshold :func:`worst_rate_limit`
+        applies, so its answer is the one exact peaks give.
+        """
+        _, upper = bounds if bounds is not None else rate_bounds(coeffs, duration)
+        unsure = {q: upper[_ROWS[q]] / getattr(limits, q) > 1.0 + slack for q in self.limited}
+        if not any(mask.any() for mask in unsure.values()):
+            return None
+        peaks = {}
+        for quantity, mask in unsure.items():
+            values = upper[_ROWS[quantity]].copy()
+            if mask.any():
+                values[mask] = peak_of(quantity, coeffs[:, mask], duration)
+            peaks[quantity] = values
+        return peaks
+
+    def _failure(
+        self, coeffs: FloatArray, duration: float, limits: JointLimits
+    ) -> tuple[str, int, float, float]:
+        """The limit broken by a move that :meth:`_fits` refuses, as :meth:`_check` gives it.
+
+        Should round-off make the check pass where a grid value broke a rate limit, that
+        grid value names the limit.
+        """
+        failure = self._check(coeffs, duration, limits)
+        if failure is not None:
+            return failure
+        lower = rate_bounds(coeffs, duration)[0]
+        ratios = {q: lower[_ROWS[q]] / getattr(limits, q) for q in self.limited}
+        quantity = max(ratios, key=lambda q: float(ratios[q].max()))
+        j = int(ratios[quantity].argmax())
+        return quantity, j, float(lower[_ROWS[quantity], j]), float(getattr(limits, quantity)[j])
+
+    def _fits(self, coeffs: FloatArray, duration: float, limits: JointLimits) -> bool:
+        """Whether the move keeps every limit; a grid value beyond a rate limit says no at once."""
+        bounds = rate_bounds(coeffs, duration)
+        lower = bounds[0]
+        for quantity in self.limited:
+            if (lower[_ROWS[quantity]] / getattr(limits, quantity)).max() > 1.0 + _SLACK:
+                return False
+        return self._check(coeffs, duration, limits, bounds=bounds) is None
+
     def _shortest(
-        self, q0: FloatArray, q1: FloatArray, limits: JointLimits, boundary: dict[str, FloatArray]
+        self,
+        q0: FloatArray,
+        q1: FloatArray,
+        limits: JointLimits,
+        boundary: dict[str, FloatArray],
+        rest: bool,
     ) -> float:
         """Shortest duration whose peaks fit the limits.
 
         Rest to rest, q(t) = q0 + (q1 - q0) s(t / T) for a fixed shape s, so the k-th
-        derivative peaks scale exactly as 1 / T^k: one evaluation at T = 1 gives T. With
-        moving ends the shape changes with T: doubling, then bisection. A rest-to-rest move
-        lasts at least MIN_DURATION [s].
+        derivative peaks scale exactly as 1 / T^k: the closed-form peaks at T = 1 give T.
+        With moving ends the shape changes with T: doubling, then the bisection of
+        :mod:`~optraj.planners.profiles.duration_search`. A rest-to-rest move lasts at least
+        MIN_DURATION [s].
         """
-        if all(not np.any(value) for value in boundary.values()):
-            peaks = polynomial_peaks(self._coefficients(q0, q1, 1.0, boundary), 1.0)
-            order = {"velocity": 1, "acceleration": 2, "jerk": 3}
+        if rest:
+            distance = np.abs(q1 - q0)
             needs = [
-                np.max(peaks[quantity] / getattr(limits, quantity)) ** (1.0 / order[quantity])
-                for quantity in self.limited
+                ((distance * peak) / getattr(limits, quantity)).max() ** (1.0 / order)
+                for order, (quantity, peak) in enumerate(
+                    zip(self.limited, REST_PEAKS[self.degree], strict=False), start=1
+                )
             ]
             shortest = float(max(needs))
             if shortest > 0.0:
                 # a tiny move lasts MIN_DURATION, the shortest duration any planner takes
                 return max(shortest * (1.0 + 1e-12), MIN_DURATION)
+        # Below |q1 - q0| / vmax the mean velocity, so the peak, is beyond a limit: those
+        # durations of the doubling fail without a check.
+        floor = float((np.abs(q1 - q0) / limits.velocity).max()) / (1.0 + _SLACK) * (1.0 - 1e-12)
         high = 1e-3
-        while failure := self._check(self._coefficients(q0, q1, high, boundary), high, limits):
+        while high < floor and high * 2.0 <= 1e4:
+            high *= 2.0
+        while not self._fits(self._coefficients(q0, q1, high, boundary), high, limits):
             high *= 2.0
             if high > 1e4:
+                last = high / 2.0
+                failure = self._failure(self._coefficients(q0, q1, last, boundary), last, limits)
                 quantity, j, needed, allowed = failure
                 raise _limit_error(
                     failure,
@@ -280,34 +292,88 @@ class _Polynomial(JointProfile):
                     f"no {self.name} of any duration keeps joint {limits.names[j]!r} within its "
                     f"{quantity} limit ({needed:.4g} needed, {allowed:.4g} allowed)",
                 )
-        low = high / 2.0 if high > 1e-3 else 0.0
-        for _ in range(60):
-            middle = 0.5 * (low + high)
-            if middle <= 0.0:
-                break
-            if self._check(self._coefficients(q0, q1, middle, boundary), middle, limits) is None:
-                high = middle
-            else:
-                low = middle
-            if high - low < 1e-9 * high:
-                break
-        return high
 
-    def _segment(
+        def fits(duration: float) -> bool:
+            return self._fits(self._coefficients(q0, q1, duration, boundary), duration, limits)
+
+        if high == 1e-3:  # the first try fits: halve down from it
+            return bisect(fits, 0.0, high)
+        return shortest_in(
+            fits, lambda duration: self._margin(q0, q1, duration, limits, boundary), high / 2, high
+        )
+
+    def _worst_ratio(self, coeffs: FloatArray, duration: float, limits: JointLimits) -> float:
+        """The largest rate peak over its limit, of any joint and limited quantity [-].
+
+        Exact; only the quantities whose grid bounds may reach the largest grid value over its
+        limit are solved for.
+        """
+        lower, upper = rate_bounds(coeffs, duration)
+        allowed = {q: getattr(limits, q) for q in self.limited}
+        floor = max(float((lower[_ROWS[q]] / allowed[q]).max()) for q in self.limited)
+        worst = floor
+        for quantity in self.limited:
+            row = _ROWS[quantity]
+            if float((upper[row] / allowed[quantity]).max()) >= floor:
+                peak = peak_of(quantity, coeffs, duration)
+                worst = max(worst, float((peak / allowed[quantity]).max()))
+        return worst
+
+    def _margin(
+        self,
+        q0: FloatArray,
+        q1: FloatArray,
+        duration: float,
+        limits: JointLimits,
+        boundary: dict[str, FloatArray],
+    ) -> float:
+        """How far the move of this duration [s] is from fitting, continuous in the duration.
+
+        > 0 exactly where :meth:`_check` finds a limit broken: the larger of the worst position
+        excess beyond 1e-9 [rad or m] and the logarithm of the worst rate peak over its limit
+        and 1 + slack (rate peaks go nearly as powers of T).
+        """
+        coeffs = self._coefficients(q0, q1, duration, boundary)
+        lowest, highest = position_range(coeffs, duration, limits.lower, limits.upper, 1e-9)
+        position = max(float((limits.lower - lowest).max()), float((highest - limits.upper).max()))
+        rate = self._worst_ratio(coeffs, duration, limits)
+        with np.errstate(divide="ignore"):  # no motion at all: log 0 = -inf, it fits
+            return max(position - 1e-9, float(np.log(rate / (1.0 + _SLACK))))
+
+    def _timed(
         self,
         q0: FloatArray,
         q1: FloatArray,
         limits: JointLimits,
         duration: float | None,
         boundary: dict[str, FloatArray],
-    ) -> Trajectory:
+        rest: bool | None = None,
+    ) -> tuple[float, FloatArray]:
+        """Duration [s] and coefficients (degree + 1, n) of one move within the limits.
+
+        ``rest`` says whether every value of ``boundary`` is zero (the rest-to-rest closed
+        forms then apply); None leaves that to be found out.
+
+        Raises:
+            InfeasibleError: A fixed duration that breaks a limit, or no duration that fits.
+        """
+        if rest is None:
+            rest = _at_rest(boundary)
+        shortest = duration is None
         if duration is None:
-            duration = self._shortest(q0, q1, limits, boundary)
-        coeffs = self._coefficients(q0, q1, duration, boundary)
-        failure = self._check(coeffs, duration, limits)
+            duration = self._shortest(q0, q1, limits, boundary, rest)
+        if rest:
+            coeffs = self._rest_coefficients(q0, q1, duration)
+            # The shortest rest-to-rest duration puts each rate peak at most 1 / (1 + 1e-12)
+            # of its limit (or was found by checking them): only the positions remain.
+            failure = self._check(coeffs, duration, limits, ends=(q0, q1), rates=not shortest)
+        else:
+            coeffs = self._coefficients(q0, q1, duration, boundary)
+            # a duration the search returns has passed this very check
+            failure = None if shortest else self._check(coeffs, duration, limits)
         if failure is not None:
             raise rate_limit_error(failure, limits, f"{self.name} in {duration:.4g} s")
-        return Trajectory([0.0, duration], coeffs[None], joint_names=limits.names)
+        return duration, coeffs
 
     def move(
         self,
@@ -329,7 +395,8 @@ class _Polynomial(JointProfile):
         q0, q1, duration = rest_to_rest_inputs(q_start, q_goal, limits, duration, self.name)
         zeros = np.zeros(limits.n)
         boundary = {"v0": zeros, "v1": zeros, "a0": zeros, "a1": zeros}
-        return self._segment(q0, q1, limits, duration, boundary)
+        length, coeffs = self._timed(q0, q1, limits, duration, boundary, rest=True)
+        return Trajectory(np.array([0.0, length]), coeffs[None], joint_names=limits.names)
 
     def plan(self, problem: PointToPoint | PaddleStrike) -> Trajectory:
         """Plan a PointToPoint, or a paddle4 strike (the seed's: arrive at rest).
@@ -354,28 +421,27 @@ class _Polynomial(JointProfile):
                 f"{type(problem).__name__}",
                 name="problem",
             )
-        if self.duration is None:
-            problem.require_motion(self.name)
+        q0, q1 = problem.q_start, problem.q_goal
+        if self.duration is None and not (np.abs(q1 - q0) > STILL_TOLERANCE).any():
+            problem.require_motion(self.name)  # a goal that equals the start: refused at rest
         boundary = self._boundary(problem)
         duration = problem.duration if problem.duration is not None else self.duration
-        segment = self._segment(
-            np.asarray(problem.q_start),
-            np.asarray(problem.q_goal),
-            problem.limits,
-            duration,
-            boundary,
+        rest = (
+            problem.qdd_start is None
+            and problem.qdd_goal is None
+            and not (boundary["v0"].any() or boundary["v1"].any())
         )
+        length, coeffs = self._timed(q0, q1, problem.limits, duration, boundary, rest=rest)
         traj = Trajectory(
-            segment.breakpoints,
-            segment.coefficients,
+            np.array([0.0, length]),
+            coeffs[None],
             joint_names=problem.limits.names,
-            phases=[Phase("move", 0.0, segment.duration)],
+            phases=[Phase("move", 0.0, length)],
         )
         return stamp(traj, self.name, started)
 
     def _boundary(self, problem: PointToPoint) -> dict[str, FloatArray]:
-        n = problem.limits.n
-        zeros = np.zeros(n)
+        zeros = np.zeros(problem.limits.n)
         boundary = {
             "v0": np.asarray(problem.qd_start),
             "v1": np.asarray(problem.qd_goal),
@@ -391,18 +457,20 @@ class _Polynomial(JointProfile):
         limits = problem.limits
         q0, qc = np.asarray(problem.q_start), np.asarray(problem.q_contact)
         zeros = np.zeros(limits.n)
+        contact_time = float(problem.contact_time)
         if float(problem.speed) == 0.0:
             boundary = {"v0": zeros, "v1": zeros, "a0": zeros, "a1": zeros}
-            approach = self._segment(q0, qc, limits, float(problem.contact_time), boundary)
+            length, coeffs = self._timed(q0, qc, limits, contact_time, boundary)
             return Trajectory(
-                approach.breakpoints,
-                approach.coefficients,
+                np.array([0.0, length]),
+                coeffs[None],
                 joint_names=limits.names,
-                phases=[Phase("approach", 0.0, approach.duration)],
+                phases=[Phase("approach", 0.0, length)],
             )
         qd_contact = paddle_contact_velocity(problem)
         boundary = {"v0": zeros, "v1": qd_contact, "a0": zeros, "a1": zeros}
-        approach = self._segment(q0, qc, limits, float(problem.contact_time), boundary)
+        length, coeffs = self._timed(q0, qc, limits, contact_time, boundary)
+        approach = Trajectory(np.array([0.0, length]), coeffs[None], joint_names=limits.names)
         stop_boundary = {"v0": qd_contact, "v1": zeros, "a0": zeros, "a1": zeros}
         # Coast to a stop: for the stop time T, end where the velocity would carry it in T/2.
         stop = None
@@ -453,6 +521,7 @@ class Quintic(_Polynomial):
     name = "quintic"
     degree = 5
     limited = ("velocity", "acceleration", "jerk")
+    shape = (0.0, 0.0, 0.0, 10.0, -15.0, 6.0)
 
     def _coefficients(
         self, q0: FloatArray, q1: FloatArray, duration: float, boundary: dict[str, FloatArray]

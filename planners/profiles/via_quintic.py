@@ -19,6 +19,8 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from optraj.planners.profiles.peak_bounds import position_range
+from optraj.planners.profiles.peaks import extremes
 from optraj.planners.profiles.via_segments import (
     ROUND_OFF,
     TimingIssue,
@@ -43,8 +45,6 @@ FloatArray = NDArray[np.float64]
 
 #: Most rebalancing rounds of :func:`quintic_fit`.
 _ROUNDS = 40
-#: Grid of starting points [-] for Newton's search of polynomial peaks on [0, 1].
-_GRID = np.linspace(0.0, 1.0, 65)
 
 #: Largest via velocity, as a multiple of an adjacent segment's slope, that keeps a quintic
 #: with zero end accelerations monotone. With end velocities alpha and beta (times the slope)
@@ -97,17 +97,6 @@ def quintic_segments(points: FloatArray, h: FloatArray) -> FloatArray:
     return b
 
 
-def _poly_eval(coefficients: FloatArray, u: FloatArray) -> FloatArray:
-    """Polynomials (m, d + 1, n) (ascending powers) at u, shape (m, g, n) or broadcastable."""
-    result = np.broadcast_to(
-        coefficients[:, -1][:, None, :],
-        np.broadcast_shapes((coefficients.shape[0], 1, coefficients.shape[2]), u.shape),
-    ).copy()
-    for i in range(coefficients.shape[1] - 2, -1, -1):
-        result = result * u + coefficients[:, i][:, None, :]
-    return result
-
-
 def _poly_derivative(coefficients: FloatArray) -> FloatArray:
     """Coefficients of d/du, shape (m, d, n)."""
     powers = np.arange(1, coefficients.shape[1], dtype=float)[None, :, None]
@@ -115,30 +104,14 @@ def _poly_derivative(coefficients: FloatArray) -> FloatArray:
 
 
 def _poly_range(coefficients: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """Smallest and largest value on u in [0, 1] of each polynomial (m, d + 1, n).
-
-    Newton's method on p' from every point of a fine grid (clipped to [0, 1]) lands on every
-    stationary point; the result is the extreme value at those points and on the grid, so it
-    never overstates the true range and matches it to round-off.
+    """Smallest and largest value on u in [0, 1] of each polynomial (m, d + 1, n), exactly.
 
     Returns:
         (lowest, highest), each shape (m, n).
     """
-    grid = _GRID[None, :, None]
-    values = _poly_eval(coefficients, grid)
-    low, high = np.min(values, axis=1), np.max(values, axis=1)
-    if coefficients.shape[1] < 3:
-        return low, high
-    slope = _poly_derivative(coefficients)
-    curve = _poly_derivative(slope)
-    u = np.broadcast_to(grid, (coefficients.shape[0], grid.size, coefficients.shape[2])).copy()
-    for _ in range(6):
-        f1 = _poly_eval(slope, u)
-        f2 = _poly_eval(curve, u)
-        step = np.divide(f1, f2, out=np.zeros_like(f1), where=np.abs(f2) > 1e-300)
-        u = np.clip(u - step, 0.0, 1.0)
-    values = _poly_eval(coefficients, u)
-    return np.minimum(low, np.min(values, axis=1)), np.maximum(high, np.max(values, axis=1))
+    m, size, n = coefficients.shape
+    low, high = extremes(coefficients.transpose(1, 0, 2).reshape(size, m * n), 1.0)
+    return low.reshape(m, n), high.reshape(m, n)
 
 
 def _abs_peak(coefficients: FloatArray) -> FloatArray:
@@ -217,8 +190,20 @@ def _quintic_issues(b: FloatArray, h: FloatArray, limits: JointLimits) -> list[T
 
 
 def _position_issues(b: FloatArray, limits: JointLimits) -> list[TimingIssue]:
-    """Segments whose quintic leaves the position limits (worst joint of each)."""
-    lowest, highest = _poly_range(b)
+    """Segments whose quintic leaves the position limits (worst joint of each).
+
+    Extremes are exact wherever the quintic may leave the limits by more than 1e-9
+    (:func:`~optraj.planners.profiles.peak_bounds.position_range`), so the test below is exact.
+    """
+    m, size, n = b.shape
+    low, high = position_range(
+        b.transpose(1, 0, 2).reshape(size, m * n),
+        1.0,
+        np.tile(limits.lower, m),
+        np.tile(limits.upper, m),
+        1e-9,
+    )
+    lowest, highest = low.reshape(m, n), high.reshape(m, n)
     issues = []
     for i in range(b.shape[0]):
         above = highest[i] - limits.upper

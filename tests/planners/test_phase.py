@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from optraj.errors import InvalidInputError
@@ -25,6 +26,20 @@ def test_a_phase_has_a_duration_and_may_last_zero_seconds():
 def test_malformed_phases_are_typed_errors(build, match):
     with pytest.raises(InvalidInputError, match=match):
         build()
+
+
+@pytest.mark.parametrize("bad", [float("nan"), float("inf"), -float("inf")])
+def test_a_non_finite_float_time_is_refused(bad):
+    with pytest.raises(InvalidInputError, match="t_end must be finite"):
+        Phase("a", 0.0, bad)
+
+
+def test_times_are_kept_as_python_floats():
+    phase = Phase("a", np.float64(0.25), 1)
+    assert type(phase.t_start) is float and type(phase.t_end) is float
+    assert type(Phase("c", np.float64(0.5), np.float32(1.0)).t_end) is float
+    assert (phase.t_start, phase.t_end) == (0.25, 1.0)
+    assert Phase("b", 0.5, 2.0).t_end == 2.0
 
 
 def test_shifted_moves_every_phase_by_the_offset():

@@ -51,6 +51,59 @@ def test_hermite_meets_every_state_and_derivatives_agree_with_finite_differences
 def test_bad_construction_is_rejected(breakpoints, coefficients, match):
     with pytest.raises(InvalidInputError, match=match):
         Trajectory(breakpoints, coefficients)
+    # as float arrays (the shorter path of validated_pieces), the same error
+    with pytest.raises(InvalidInputError, match=match):
+        Trajectory(np.array(breakpoints, dtype=float), np.array(coefficients, dtype=float))
+
+
+@pytest.mark.parametrize(
+    ("breakpoints", "coefficients", "match"),
+    [
+        ([0.0, np.inf], np.zeros((1, 2, 1)), "finite"),
+        ([0.0, np.nan, 2.0], np.zeros((2, 2, 1)), "finite"),
+        ([0.0, 2.0, 1.0], np.zeros((2, 2, 1)), "strictly increase"),
+        ([0.0, 1.0], np.array([[[1.0], [np.inf]]]), "finite"),
+        ([0.0, 1.0], np.array([[[np.inf], [-np.inf]]]), "finite"),
+        ([0.0, 1.0], np.zeros((1, 0, 2)), "at least one term"),
+    ],
+)
+def test_bad_float_arrays_are_rejected(breakpoints, coefficients, match):
+    with pytest.raises(InvalidInputError, match=match):
+        Trajectory(np.array(breakpoints), coefficients)
+
+
+def test_float_arrays_and_lists_give_the_same_read_only_copies():
+    rng = np.random.default_rng(11)
+    knots = np.array([0.0, 0.4, 1.1])
+    coefficients = rng.normal(size=(2, 4, 3))
+    huge = np.full((2, 4, 3), 1e308)  # finite, though their sum is not
+    for array in (coefficients, huge):
+        fast = Trajectory(knots, array)
+        slow = Trajectory(knots.tolist(), array.tolist())
+        np.testing.assert_array_equal(fast.breakpoints, slow.breakpoints)
+        np.testing.assert_array_equal(fast.coefficients, slow.coefficients)
+        assert not fast.coefficients.flags.writeable and not fast.breakpoints.flags.writeable
+    before = coefficients.copy()
+    traj = Trajectory(knots, coefficients)
+    coefficients[:] = 0.0
+    knots[1] = 0.5
+    np.testing.assert_array_equal(traj.coefficients, before)
+    assert traj.breakpoints[1] == 0.4
+
+
+def test_derivatives_are_taken_on_first_sampling():
+    rng = np.random.default_rng(12)
+    coefficients = rng.normal(size=(1, 6, 2))
+    traj = Trajectory(np.array([0.0, 1.5]), coefficients)
+    t = np.linspace(0.0, 1.5, 7)
+    sample = traj.sample(t)
+    for order, values in enumerate((sample.q, sample.qd, sample.qdd, sample.jerk)):
+        expected = [
+            np.polynomial.polynomial.polyval(t, np.polynomial.polynomial.polyder(c, order))
+            for c in coefficients[0].T
+        ]
+        np.testing.assert_allclose(values, np.array(expected).T, rtol=1e-12, atol=1e-12)
+    assert len(traj._coeffs) == 4 and traj.degree == 5
 
 
 def test_then_shifts_time_and_phases_and_raises_degree():

@@ -14,8 +14,8 @@ from optraj.planners.checker import check
 from optraj.planners.profiles.time_scaling import (
     Cubic,
     Quintic,
-    cubic_coefficients,
-    quintic_coefficients,
+    polynomial_peaks,
+    worst_rate_limit,
 )
 
 # ECE486 seed, ball (1.1, 0.8, 0.7), T = 2 s, 5 Hz: the printed rows at t = 0.2, 0.4, 1.0, 1.8 s.
@@ -54,25 +54,6 @@ def test_seed_table_other_corners(ball):
         s = row[1] / 0.3911
         np.testing.assert_allclose(traj.sample(t).q, HOME + s * (goal - HOME), atol=2e-4)
     np.testing.assert_allclose(traj.sample(2.0).q, goal, atol=1e-4)
-
-
-def test_boundary_conditions_met_for_random_data():
-    rng = np.random.default_rng(5)
-    for _ in range(200):
-        q0, q1, v0, v1, a0, a1 = rng.uniform(-2, 2, size=(6, 4))
-        T = rng.uniform(0.2, 3.0)
-        for coeffs, states in (
-            (quintic_coefficients(q0, q1, T, v0, v1, a0, a1), (q0, v0, a0, q1, v1, a1)),
-            (cubic_coefficients(q0, q1, T, v0, v1), (q0, v0, None, q1, v1, None)),
-        ):
-            poly = np.polynomial.polynomial
-            for t, (q, v, a) in ((0.0, states[:3]), (T, states[3:])):
-                np.testing.assert_allclose(poly.polyval(t, coeffs), q, atol=1e-10)
-                np.testing.assert_allclose(poly.polyval(t, poly.polyder(coeffs)), v, atol=1e-10)
-                if a is not None:
-                    np.testing.assert_allclose(
-                        poly.polyval(t, poly.polyder(coeffs, 2)), a, atol=1e-9
-                    )
 
 
 def _limits(robot, rng):
@@ -206,3 +187,95 @@ def test_a_cubic_refuses_even_zero_prescribed_accelerations():
         assert info.value.name == label
         traj = Quintic().plan(problem)
         assert check(traj, problem).ok
+
+
+def _exact_check(profile, coeffs, duration, limits):
+    """The check with every peak exact, for comparison with the screened one."""
+    peaks = polynomial_peaks(coeffs, duration)
+    for excess, values, bound in (
+        (limits.lower - peaks["position_min"], peaks["position_min"], limits.lower),
+        (peaks["position_max"] - limits.upper, peaks["position_max"], limits.upper),
+    ):
+        j = int(np.argmax(excess))
+        if excess[j] > 1e-9:
+            return "position", j, float(values[j]), float(bound[j])
+    return worst_rate_limit(peaks, limits, profile.limited)
+
+
+@pytest.mark.parametrize("profile", [Cubic(), Quintic()])
+def test_screened_check_answers_as_the_exact_one(profile):
+    robot = get_robot("panda")
+    rng = np.random.default_rng(35)
+    answers = set()
+    for _ in range(300):
+        limits = _limits(robot, rng)
+        q0, q1 = robot.random_configurations(2, rng)
+        v0, v1 = rng.uniform(-0.5, 0.5, (2, robot.dof)) * limits.velocity
+        duration = float(rng.uniform(0.3, 4.0))
+        boundary = {"v0": v0, "v1": v1, "a0": np.zeros(7), "a1": np.zeros(7)}
+        coeffs = profile._coefficients(q0, q1, duration, boundary)
+        screened = profile._check(coeffs, duration, limits)
+        exact = _exact_check(profile, coeffs, duration, limits)
+        assert (screened is None) == (exact is None)
+        if exact is not None:
+            assert screened[:2] == exact[:2]
+            assert screened[2:] == pytest.approx(exact[2:], rel=1e-12)
+        assert profile._fits(coeffs, duration, limits) == (exact is None)
+        answers.add(None if exact is None else exact[0])
+    assert None in answers and len(answers) > 2  # fits, and more than one limit broken
+
+
+@pytest.mark.parametrize("profile", [Cubic, Quintic])
+@pytest.mark.parametrize("duration", [None, 2.0])
+def test_plans_with_moving_ends_pass_the_checker_or_name_the_limit(profile, duration):
+    robot = get_robot("panda")
+    limits = robot.limits
+    rng = np.random.default_rng(35)
+    span = limits.upper - limits.lower
+    planned = 0
+    for _ in range(12):
+        q0, q1 = limits.lower + span * rng.uniform(0.1, 0.9, (2, robot.dof))
+        v0, v1 = 0.2 * limits.velocity * rng.uniform(-1, 1, (2, robot.dof))
+        problem = problems.PointToPoint(robot, q0, q1, v0, v1)
+        try:
+            traj = profile(duration=duration).plan(problem)
+        except InfeasibleError as error:
+            assert duration is not None and error.required > error.allowed
+            continue
+        planned += 1
+        report = check(traj, problem, quantities=("position", *profile.limited))
+        assert report.ok, report.summary()
+        if duration is not None:
+            assert traj.duration == duration
+    assert planned >= 4
+
+
+@pytest.mark.parametrize(("profile", "name"), [(Cubic(), "cubic"), (Quintic(), "quintic")])
+def test_a_start_speeding_into_a_limit_fits_no_duration(profile, name):
+    robot = get_robot("panda")
+    limits = robot.limits
+    q0 = (limits.lower + limits.upper) / 2
+    q1 = q0.copy()
+    q1[0] += 0.1
+    q0[1] = limits.upper[1] - 1e-3
+    v0 = np.zeros(robot.dof)
+    v0[1] = 0.9 * limits.velocity[1]  # 1 mm from the limit: every duration overshoots it
+    problem = problems.PointToPoint(robot, q0, q1, qd_start=v0)
+    with pytest.raises(InfeasibleError, match=f"no {name} of any duration keeps joint") as info:
+        profile.plan(problem)
+    assert info.value.limit == "position" and info.value.joint == limits.names[1]
+    assert info.value.required > info.value.allowed == limits.upper[1]
+
+
+@pytest.mark.parametrize(("profile", "name"), [(Cubic(), "cubic"), (Quintic(), "quintic")])
+def test_a_move_too_long_for_any_duration_names_the_velocity_limit(profile, name):
+    robot = get_robot("panda")
+    limits = dataclasses.replace(robot.limits, velocity=np.full(robot.dof, 1e-5))
+    q0 = (limits.lower + limits.upper) / 2
+    # at 1e-5 rad/s, 0.3 rad take 3e4 s: beyond the longest duration tried
+    problem = problems.PointToPoint(
+        robot, q0, q0 + 0.3, qd_start=np.full(robot.dof, 1e-6), limits=limits
+    )
+    with pytest.raises(InfeasibleError, match=f"no {name} of any duration keeps joint") as info:
+        profile.plan(problem)
+    assert info.value.limit == "velocity" and info.value.required > info.value.allowed == 1e-5
