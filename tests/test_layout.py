@@ -42,6 +42,7 @@ def _folder(name: str) -> str:
     )
 
 
+@pytest.mark.slow
 def test_our_packages_are_imported_under_optraj_only():
     # The generic folder names (robots, planners, ...) are never import names: installed,
     # they would shadow PyPI packages of the same names.
