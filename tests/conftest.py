@@ -1,10 +1,14 @@
-"""Shared fixtures: robots loaded once per session (Panda takes ~0.6 s), a thread race."""
+"""Shared fixtures: robots loaded once per session (Panda takes ~0.6 s), a thread race; and
+how a run on several workers (``pytest -n auto --dist loadfile``, as ``make test`` runs it)
+shares the cores: one BLAS thread per worker, the files of slow tests first."""
 
 from __future__ import annotations
 
 import importlib.util
+import os
 import sys
 import threading
+from collections import Counter
 from collections.abc import Callable
 
 import pytest
@@ -78,3 +82,30 @@ def pool_plan(pool_shot):
 
     room = dataclasses.replace(pool_shot, limits=pool_shot.robot.limits.scaled(0.8))
     return planners.OptimalControl("time").plan(room)
+
+
+#: The variables that size the BLAS and OpenMP thread pools of a process.
+THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """On the controller of a run over worker processes, give the workers (and the processes
+    they start) one BLAS thread each: the workers already occupy every core. A variable the
+    user has set is left as it is."""
+    distributed = getattr(config.option, "numprocesses", None)
+    if distributed and not hasattr(config, "workerinput"):
+        for name in THREAD_VARIABLES:
+            os.environ.setdefault(name, "1")
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """In a worker process, put the files with the most ``slow`` tests first (a stable sort).
+
+    ``--dist loadfile --no-loadscope-reorder`` hands out whole files in this order, so the
+    longest files start at once and the many short ones fill the workers' ends. A run in
+    one process keeps the collection order.
+    """
+    if not hasattr(config, "workerinput"):
+        return
+    slow = Counter(item.path for item in items if item.get_closest_marker("slow"))
+    items.sort(key=lambda item: -slow[item.path])

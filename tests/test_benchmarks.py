@@ -37,6 +37,7 @@ def test_time_optimal_quick_run_writes_its_table(tmp_path, monkeypatch):
         assert min(ratios) > 0.9
 
 
+@pytest.mark.slow
 def test_strike_quick_run_writes_its_table(tmp_path, monkeypatch):
     module = _load("strike", monkeypatch)
     monkeypatch.setattr(module, "RESULTS", tmp_path)
@@ -118,6 +119,7 @@ def test_the_speed_table_counts_the_contact_choice_and_window_refusals_as_refuse
         assert not module._refused(other)
 
 
+@pytest.mark.slow
 def test_tracking_quick_run_writes_its_tables(tmp_path, monkeypatch):
     module = _load("tracking", monkeypatch)
     monkeypatch.setattr(module, "RESULTS", tmp_path)
@@ -140,6 +142,7 @@ def test_tracking_quick_run_writes_its_tables(tmp_path, monkeypatch):
     assert "| differential-IK QP |" in timing and "| 1.00 |" in timing
 
 
+@pytest.mark.slow
 def test_run_all_runs_each_benchmark_draws_the_plots_and_rewrites_the_readme(tmp_path, monkeypatch):
     module = _load("run_all", monkeypatch)
     module_names = ["time_optimal", "strike", "tracking", "outcome", "sweep", "peers"]
@@ -200,6 +203,7 @@ def outcome_quick(tmp_path_factory):
     return module, folder, (folder / "outcome.md").read_text()
 
 
+@pytest.mark.slow
 def test_outcome_quick_run_judges_every_strike_by_the_ball(outcome_quick):
     _, tmp_path, text = outcome_quick
     rows = {
@@ -225,6 +229,7 @@ def test_outcome_quick_run_judges_every_strike_by_the_ball(outcome_quick):
     assert "Errors (defects; the case's other rows stand): none" in text
 
 
+@pytest.mark.slow
 def test_outcome_is_the_same_from_worker_processes(outcome_quick, tmp_path, monkeypatch):
     _, _, serial = outcome_quick
     module = _load("outcome", monkeypatch)
@@ -247,6 +252,7 @@ def test_fingerprint_compare_finds_a_moved_number_and_passes_an_unmoved_one(tmp_
     assert not module._is_wall("motion_time") and not module._is_wall("duration_from")
 
 
+@pytest.mark.slow
 def test_sweep_quick_run_writes_its_tables(tmp_path, monkeypatch):
     module = _load("sweep", monkeypatch)
     out = tmp_path / "sweep.md"

@@ -42,6 +42,7 @@ def _folder(name: str) -> str:
     )
 
 
+@pytest.mark.slow
 def test_our_packages_are_imported_under_optraj_only():
     # The generic folder names (robots, planners, ...) are never import names: installed,
     # they would shadow PyPI packages of the same names.
@@ -106,15 +107,35 @@ def test_every_package_folder_is_installed():
     assert listed == found
 
 
+#: The test folder of each package folder whose name it does not share: a tests/optraj folder
+#: would be imported in place of the optraj package (tests/ is on the path).
+TEST_FOLDERS = {"optraj": "top"}
+
+
+def _test_folder(folder: Path) -> Path:
+    """The tests/ sub-folder mirroring the package folder ``folder`` (relative to ROOT)."""
+    return Path(TEST_FOLDERS.get(folder.parts[0], folder.parts[0]), *folder.parts[1:])
+
+
+def _package_folder(folder: Path) -> Path:
+    """The package folder (relative to ROOT) that the tests/ sub-folder ``folder`` mirrors."""
+    packages = {test: package for package, test in TEST_FOLDERS.items()}
+    if not folder.parts:
+        return folder
+    return Path(packages.get(folder.parts[0], folder.parts[0]), *folder.parts[1:])
+
+
 def test_test_file_per_module():
     # The tests mirror the packages: planners/ocp/transcription.py is tested by
-    # tests/planners/ocp/test_transcription.py.
+    # tests/planners/ocp/test_transcription.py, and optraj/cli.py by tests/top/test_cli.py.
     missing = [
         str(path.relative_to(ROOT))
         for package in ["optraj", *ORDER]
         for path in (ROOT / package).rglob("*.py")
         if path.name != "__init__.py"
-        and not (ROOT / "tests" / path.parent.relative_to(ROOT) / f"test_{path.name}").exists()
+        and not (
+            ROOT / "tests" / _test_folder(path.parent.relative_to(ROOT)) / f"test_{path.name}"
+        ).exists()
     ]
     assert missing == [], f"modules without a mirrored tests/.../test_<module>.py: {missing}"
 
@@ -126,7 +147,7 @@ def test_every_test_file_mirrors_a_module_or_is_a_whole_project_test():
         folder = path.parent.relative_to(ROOT / "tests")
         if folder.parts[:1] == ("fuzz",) or (folder == Path(".") and path.name in whole_project):
             continue
-        if not (ROOT / folder / path.name.removeprefix("test_")).exists():
+        if not (ROOT / _package_folder(folder) / path.name.removeprefix("test_")).exists():
             orphans.append(str(path.relative_to(ROOT)))
     assert orphans == [], f"test files that mirror no module: {orphans}"
 

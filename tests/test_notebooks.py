@@ -56,6 +56,7 @@ def _errors(nb: nbformat.NotebookNode) -> list[str]:
 
 
 @pytest.mark.parametrize("name", NOTEBOOKS)
+@pytest.mark.slow
 def test_notebook_runs_without_errors_within_budget(name, kernel_env):
     nb = nbformat.read(ROOT / "notebooks" / name, as_version=4)
     nb.cells.append(nbformat.v4.new_code_cell(PROBE))

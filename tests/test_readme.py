@@ -42,6 +42,7 @@ def test_errors_shown_in_readme_are_verbatim():
     assert shown["UnknownNameError"] == str(unknown.value)
 
 
+@pytest.mark.slow
 def test_every_python_block_runs():
     blocks = re.findall(r"```python\n(.*?)```", README, re.S)
     assert len(blocks) >= 2

@@ -81,6 +81,7 @@ def test_unconstrained_solution_equals_least_squares(name, task, posture_velocit
         np.testing.assert_allclose(command.qd, expected, atol=1e-6, rtol=0)
 
 
+@pytest.mark.slow
 def test_constrained_solution_equals_bounded_least_squares():
     robot = get_robot("sawyer")
     rng = np.random.default_rng(12)

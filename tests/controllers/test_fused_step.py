@@ -384,6 +384,7 @@ def test_pickled_fused_controller_rebuilds_its_function():
 
 
 @pytest.mark.skipif(not HAS_GCC, reason="no C compiler (gcc) on this machine")
+@pytest.mark.slow
 def test_compiled_step_equals_the_virtual_machine(strikes):
     robot, planned = strikes
     runs = [

@@ -77,6 +77,7 @@ def test_pseudo_inverse_exceeds_the_speed_limit_where_the_qp_never_does(shot, at
     )
 
 
+@pytest.mark.slow
 def test_near_a_singularity_the_pseudo_inverse_runs_away_and_the_qp_does_not():
     # Shot 15 of benchmarks/tracking.py, planned within 80 % of the limits: the plan keeps the
     # smallest singular value of J above 0.14, but the pseudo-inverse leaves the self-motion

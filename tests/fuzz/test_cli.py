@@ -21,6 +21,7 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
+import pytest
 from hypothesis import given, note, settings
 from hypothesis import strategies as st
 
@@ -180,6 +181,7 @@ def broken_files(draw: st.DrawFn) -> tuple[str, bytes | None]:
     return how, text
 
 
+@pytest.mark.slow
 @settings(max_examples=examples("cli file"))
 @given(file=broken_files(), robot=st.none() | _robots, rate=st.none() | _numbers)
 @recorded

@@ -115,6 +115,7 @@ def test_optimal_control_plans_pass_the_checker_or_are_refused(problem):
     return judge_plan(OPTIMAL_CONTROL, problem)
 
 
+@pytest.mark.slow
 @settings(max_examples=examples("optimal control", 2))
 @given(problem=st.one_of(paddle_strikes(), refused_point_to_points(("paddle4", "youbot"))))
 @recorded

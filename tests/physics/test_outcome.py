@@ -30,6 +30,7 @@ def test_a_tracked_pool_shot_sends_the_ball_on_its_line(pool_shot, pool_plan):
     np.testing.assert_array_equal(outcome.direction, pool_shot.direction)
 
 
+@pytest.mark.slow
 def test_outcomes_are_deterministic_for_a_seed(pool_shot, pool_plan):
     a = _track(pool_shot, pool_plan, noise=controllers.Noise(seed=4))
     b = _track(pool_shot, pool_plan, noise=controllers.Noise(seed=4))

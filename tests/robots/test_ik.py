@@ -14,7 +14,8 @@ from optraj.robots.ik import LocalIK
 
 @pytest.mark.parametrize("name", ALL_ROBOTS)
 @pytest.mark.parametrize(
-    ("target_of", "count", "seed"), [("tool_pose", 1000, 1000), ("tool_position", 200, 77)]
+    ("target_of", "count", "seed"),
+    [pytest.param("tool_pose", 1000, 1000, marks=pytest.mark.slow), ("tool_position", 200, 77)],
 )
 def test_round_trip_of_random_poses_and_positions(name, target_of, count, seed):
     # The tool pose (full pose IK) or its position (position-only IK) of random configurations.

@@ -15,6 +15,7 @@ from optraj.errors import InvalidInputError, UnknownNameError
 from optraj.sweeps import read_rows
 
 
+@pytest.mark.slow
 def test_serial_and_two_processes_give_identical_rows(tmp_path):
     serial = sweeps.run(SMALL, planner="ruckig", workers=0, progress=False)
     pooled = sweeps.run(
@@ -26,6 +27,7 @@ def test_serial_and_two_processes_give_identical_rows(tmp_path):
     assert outcome(written[shot.shot_id] for shot in SMALL) == outcome(pooled)
 
 
+@pytest.mark.slow
 def test_a_stopped_run_restarted_plans_every_shot_once(tmp_path):
     out = tmp_path / "m.jsonl"
     first = sweeps.run(SMALL, planner="ruckig", workers=0, out=out, max_shots=3, progress=False)
@@ -37,6 +39,7 @@ def test_a_stopped_run_restarted_plans_every_shot_once(tmp_path):
     assert sorted(ids) == sorted(shot.shot_id for shot in SMALL)
 
 
+@pytest.mark.slow
 def test_a_killed_run_restarted_plans_every_shot_once(tmp_path):
     out = tmp_path / "m.jsonl"
     script = (
@@ -75,6 +78,7 @@ def test_a_file_of_another_planner_is_refused(tmp_path):
         sweeps.run(SMALL, planner="ruckig", workers=0, out=out, progress=False)
 
 
+@pytest.mark.slow
 def test_raise_and_hang_become_rows_with_their_reason():
     shots = SMALL.shots()[:2]
     failed = sweeps.run(shots, planner="test-raise", workers=0, progress=False)

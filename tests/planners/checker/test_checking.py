@@ -51,6 +51,7 @@ def test_a_bad_rate_raises_a_typed_error(paddle, rate, match):
         check(quintic(Q0, Q0 + DELTA, T), paddle, rate=rate)
 
 
+@pytest.mark.slow
 def test_a_rate_beyond_the_sample_budget_names_a_rate_that_fits(paddle):
     day = quintic(Q0, Q0 + DELTA, 86_400.0)
     with pytest.raises(InvalidInputError, match=r"rate 1000 Hz .* rate <= \d") as info:

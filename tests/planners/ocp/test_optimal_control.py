@@ -48,6 +48,7 @@ def _jerk_integral(traj) -> float:
 # ------------------------------------------------------------------------------ strikes
 
 
+@pytest.mark.slow
 def test_pool_strikes_at_1_m_s_pass_the_checker_or_say_why():
     planner = OptimalControl("time")
     solved = 0
@@ -66,6 +67,7 @@ def test_pool_strikes_at_1_m_s_pass_the_checker_or_say_why():
 
 
 @pytest.mark.parametrize("speed", [0.01, 0.03])
+@pytest.mark.slow
 def test_slow_pool_strikes_pass_the_checker(speed):
     # A window of 15 s or 5 s: without bounds on the strike nodes' velocities and
     # accelerations a minimum-time plan filled it with self-motion, and the cue left its
@@ -77,6 +79,7 @@ def test_slow_pool_strikes_pass_the_checker(speed):
         assert report.ok, report.summary()
 
 
+@pytest.mark.slow
 def test_a_contact_on_a_position_limit_plans_although_its_guess_line_jumps():
     # Found by a seeded random probe: the contact configuration has right_j4 on its lower
     # limit, which the IK of the guess's strike line then pins there, so right_j3 turns 0.14
@@ -168,6 +171,7 @@ def _paddle_problems(count: int, seed: int = 3):
         made += 1
 
 
+@pytest.mark.slow
 def test_paddle_strikes_pass_the_checker():
     planner = OptimalControl("time")
     for problem in _paddle_problems(20):
@@ -201,6 +205,7 @@ def test_a_paddle_strike_without_room_at_contact_is_refused_before_the_solve():
 # ----------------------------------------------------------------------------- joint moves
 
 
+@pytest.mark.slow
 def test_min_time_moves_come_within_0_2_percent_of_the_lower_bound():
     robot = get_robot("sawyer")
     rng = np.random.default_rng(5)
@@ -233,6 +238,7 @@ def test_min_jerk_with_a_fixed_duration_approaches_the_quintic():
     assert gap.max() < 0.02 * np.abs(q1 - q0).max()
 
 
+@pytest.mark.slow
 def test_min_effort_needs_less_torque_than_min_jerk():
     robot = get_robot("youbot")
     q0 = robot.home
@@ -274,6 +280,7 @@ def test_waypoints_are_passed_through():
     assert [p.name for p in traj.phases] == ["segment 1", "segment 2", "segment 3"]
 
 
+@pytest.mark.slow
 def test_a_via_point_plan_warm_starts_a_waypoint_problem_and_a_mismatch_says_so():
     # ViaPoints and Toppra named their phases "segment 0..", the NLP "segment 1..": the warm
     # start was dropped without a word. One naming, and a warm start that cannot be used raises.
@@ -292,6 +299,7 @@ def test_a_via_point_plan_warm_starts_a_waypoint_problem_and_a_mismatch_says_so(
         OptimalControl("time").plan(problem, warm_start=other)
 
 
+@pytest.mark.slow
 def test_a_strike_that_passes_a_position_limit_between_nodes_is_solved_again_within():
     # Benchmark shot 95 (seed 7): the first solve takes right_j0 past its lower limit
     # between two nodes; with their bounds moved in, the warm re-solve stays within.
@@ -428,6 +436,7 @@ def test_a_strike_whose_start_gravity_overloads_is_refused_before_any_search(mon
         OptimalControl().build(problem)
 
 
+@pytest.mark.slow
 def test_a_strike_whose_windows_need_more_torque_than_the_limits_is_refused_naming_effort():
     # From the arm held up (little gravity torque at the start) to a ball held out over the
     # table with effort limits at 15 %: the first solve is infeasible, and every contact's
@@ -488,6 +497,7 @@ def test_solve_statistics_split_the_plan_time():
     assert OptimalControl("time").plan(move).metadata["contact_time"] == 0.0
 
 
+@pytest.mark.slow
 def test_warm_start_from_a_previous_solution_and_from_another_planner():
     first, second = (
         problems.sawyer_pool_shot(1.0, ball=ball)
@@ -556,6 +566,7 @@ def _moved_2_cm(ball, heading_deg):
     )
 
 
+@pytest.mark.slow
 def test_a_warm_start_through_another_contact_branch_is_not_lent():
     # Strike benchmark shot 35 of seed 11: the kept branch has no room after the ball moved,
     # and the search chooses another; warm from the old branch this took 634 iterations.
@@ -573,6 +584,7 @@ def test_a_warm_start_through_another_contact_branch_is_not_lent():
     assert check(traj, moved).ok
 
 
+@pytest.mark.slow
 def test_a_failed_solve_is_retried_from_the_next_contact_branch():
     # Shot 42 of benchmarks/strike.py: IPOPT finds the problem infeasible from the chosen
     # contact configuration, whose window the window check finds past the limits too, and

@@ -14,6 +14,7 @@ from optraj.planners.ocp.optimal_control import (
 )
 
 
+@pytest.mark.slow
 def test_a_strike_that_leaves_its_schedule_is_solved_again_on_a_finer_grid(monkeypatch):
     problem = problems.sawyer_pool_shot()
     plain = OptimalControl(contact_retries=0).plan(problem)

@@ -27,6 +27,7 @@ def _moved_2_cm(ball, heading_deg):
     )
 
 
+@pytest.mark.slow
 def test_a_warm_solve_that_does_not_converge_is_redone_cold():
     # Strike benchmark shot 27 of seed 7: the search keeps the branch, but the previous
     # multipliers lead IPOPT through 508 iterations; capped, the same primal point solves cold.

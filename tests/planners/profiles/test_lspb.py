@@ -169,6 +169,7 @@ def _plan_case(case, rng, start, goal, limits):
 
 
 @pytest.mark.parametrize("case", CASES)
+@pytest.mark.slow
 def test_random_moves_respect_limits_and_are_c1(case):
     rng = np.random.default_rng(CASES.index(case) + 100)
     robots_ = [get_robot("sawyer"), get_robot("paddle4")]

@@ -92,6 +92,7 @@ def test_shortest_durations_match_the_closed_form():
     (Cubic(), ("position", "velocity", "acceleration")),
     (Quintic(), ("position", "velocity", "acceleration", "jerk")),
 ])  # fmt: skip
+@pytest.mark.slow
 def test_1000_random_moves_pass_the_checker(profile, quantities):
     robot = get_robot("paddle4")
     rng = np.random.default_rng(1000)
@@ -103,6 +104,7 @@ def test_1000_random_moves_pass_the_checker(profile, quantities):
         assert report.ok, report.summary()
 
 
+@pytest.mark.slow
 def test_moving_boundaries_are_met_and_checked():
     robot = get_robot("sawyer")
     rng = np.random.default_rng(3)

@@ -14,6 +14,7 @@ from optraj.planners.profiles.via_points import ViaPoints
 QUANTITIES = ("position", "velocity", "acceleration")
 
 
+@pytest.mark.slow
 def test_lspb_random_problems_respect_limits_and_cut_corners_by_the_blend_bound(via):
     rng = np.random.default_rng(2024)
     robots_ = [get_robot("sawyer"), get_robot("paddle4")]

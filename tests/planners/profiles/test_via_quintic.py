@@ -19,6 +19,7 @@ from optraj.planners.profiles.via_quintic import (
 QUANTITIES = ("position", "velocity", "acceleration")
 
 
+@pytest.mark.slow
 def test_quintic_passes_every_via_point_and_is_c2(via):
     rng = np.random.default_rng(99)
     robots_ = [get_robot("sawyer"), get_robot("paddle4")]

@@ -49,6 +49,7 @@ def planned(shots):
     return result
 
 
+@pytest.mark.slow
 def test_cubic_and_quintic_strikes_pass_the_checker(planned):
     assert len(planned) >= 6
     assert sum(quintic is not None for _, _, quintic in planned) >= 4

@@ -39,6 +39,7 @@ def _slow_limits(robot, rng, low, high):
     return scaled_limits(robot, np.exp(rng.uniform(np.log(low), np.log(high), (robot.dof, 3))).T)
 
 
+@pytest.mark.slow
 def test_random_rest_to_rest_moves_pass_the_checker():
     robot = get_robot("sawyer")
     rng = np.random.default_rng(20240611)
@@ -58,6 +59,7 @@ def test_random_rest_to_rest_moves_pass_the_checker():
     assert not failures, failures[:3]
 
 
+@pytest.mark.slow
 def test_random_state_to_state_moves_pass_the_checker_or_raise_typed_errors():
     robot = get_robot("sawyer")
     rng = np.random.default_rng(7)

@@ -51,6 +51,7 @@ def test_the_speed_constraint_bounds_the_squared_path_speed_by_its_rates():
     assert xbound[:, 1] == pytest.approx(np.full(6, 0.25))  # x = sd^2 <= 1 / 2^2
 
 
+@pytest.mark.slow
 def test_results_pickle_with_toppras_object():
     robot = get_robot("paddle4")
     problem = problems.Waypoints(robot, robot.random_configurations(3, np.random.default_rng(4)))

@@ -31,6 +31,7 @@ def _error_line(capsys) -> str:
     return err[0]
 
 
+@pytest.mark.slow
 def test_a_sweep_writes_the_table_and_counts_each_status(tmp_path):
     table = tmp_path / "map.parquet"
     status, text = _run([*SWEEP, "--out", str(table)])
@@ -43,6 +44,7 @@ def test_a_sweep_writes_the_table_and_counts_each_status(tmp_path):
     assert f"table: {table} (8 rows)" in text
 
 
+@pytest.mark.slow
 def test_paddle4_strikes_are_swept_and_judged_by_the_ball(tmp_path):
     table = tmp_path / "paddle.jsonl"
     argv = ["map", "paddle4", "--grid", "2x1x1", "--x", "0.6,0.9", "--y", "0,0", "--speeds",
@@ -67,6 +69,7 @@ def test_z_and_a_three_axis_grid_are_for_paddle4_only(capsys, tmp_path):
     assert "--grid takes NXxNYxNZ" in _error_line(capsys)
 
 
+@pytest.mark.slow
 def test_a_stopped_sweep_says_what_is_left_and_resumes(tmp_path):
     table = tmp_path / "map.parquet"
     status, text = _run([*SWEEP, "--out", str(table), "--max-shots", "3"])

@@ -48,6 +48,7 @@ def _error_line(capsys) -> str:
 # ------------------------------------------------------------------------------ demo
 
 
+@pytest.mark.slow
 def test_demo_prints_every_robot_with_its_tool_pose(demo):
     status, text, _ = demo
     assert status == 0

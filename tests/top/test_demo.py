@@ -1,4 +1,4 @@
-"""Tests of the pieces of ``optraj demo`` (the whole demo runs in tests/test_cli.py)."""
+"""Tests of the pieces of ``optraj demo`` (the whole demo runs in tests/top/test_cli.py)."""
 
 from __future__ import annotations
 
