@@ -298,6 +298,7 @@ PEER_ROWS = [
     "OptimalControl min time, NLP reused, vs bare CasADi",
     "OptimalControl min time, NLP reused, vs Drake",
     "OptimalControl first plan vs reused",
+    "OptimalControl new planner object vs reused",
     "strike OCP warm re-plan vs cold",
     "strike OCP cold vs Ruckig strike",
     "DiffIKQP step vs pink + daqp",
@@ -309,6 +310,7 @@ def _table_rows(text: str, header: str) -> list[list[str]]:
     return [[c.strip() for c in line.strip("|").split("|")] for line in lines]
 
 
+@pytest.mark.slow
 def test_peers_quick_run_times_every_row_of_the_protocol(tmp_path, monkeypatch):
     module = _load("peers", monkeypatch)
     out = tmp_path / "peers" / "peers.md"
