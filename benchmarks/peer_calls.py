@@ -228,24 +228,8 @@ def bare_ocp(limits: robots.JointLimits) -> Any:
 
 
 def pink_daqp(robot: robots.Robot) -> Callable[[controllers.State, controllers.Reference], Any]:
-    """One call of pink's ``solve_ik`` with daqp on benchmarks/tracking.py's task.
-
-    The task: the tool pose (position and orientation cost 1), a posture task towards the
-    planned joints (cost 1e-3), pink's default configuration and velocity limits.
-    """
-    import pink
-    import pinocchio as pin
-    from pink.tasks import FrameTask, PostureTask
-
-    configuration = pink.Configuration(robot.model, robot.model.createData(), robot.home)
-    frame = FrameTask(robot.tool_frame, position_cost=1.0, orientation_cost=1.0)
-    posture = PostureTask(cost=1e-3)
-
-    def step(state: controllers.State, reference: controllers.Reference) -> Any:
-        configuration.update(state.q)
-        T = reference.T_world_tool
-        frame.set_target(pin.SE3(T[:3, :3], T[:3, 3]))
-        posture.set_target(reference.q)
-        return pink.solve_ik(configuration, [frame, posture], DT, solver="daqp", damping=1e-6)
-
+    """One call of pink's ``solve_ik`` with daqp on benchmarks/tracking.py's task."""
+    step = importlib.import_module("tracking").pink_stepper(robot, solver="daqp")
+    if step is None:
+        raise PeerError("pink is not installed")
     return step

@@ -160,11 +160,14 @@ def tracking_table(
     return rows
 
 
-def pink_stepper(robot: Robot) -> Callable[[controllers.State, controllers.Reference], Any] | None:
+def pink_stepper(
+    robot: Robot, solver: str = "osqp"
+) -> Callable[[controllers.State, controllers.Reference], Any] | None:
     """One call of pink's ``solve_ik`` on the same task, or None without pin-pink.
 
     The task: the tool pose (position and orientation cost 1), a posture task towards the
-    planned joints (cost 1e-3), pink's default configuration and velocity limits, OSQP.
+    planned joints (cost 1e-3), pink's default configuration and velocity limits; ``solver``
+    is the QP solver pink calls (a qpsolvers name).
     """
     if importlib.util.find_spec("pink") is None:
         return None
@@ -180,7 +183,7 @@ def pink_stepper(robot: Robot) -> Callable[[controllers.State, controllers.Refer
         T = reference.T_world_tool
         frame.set_target(pin.SE3(T[:3, :3], T[:3, 3]))
         posture.set_target(reference.q)
-        return pink.solve_ik(configuration, [frame, posture], DT, solver="osqp", damping=1e-6)
+        return pink.solve_ik(configuration, [frame, posture], DT, solver=solver, damping=1e-6)
 
     return step
 
