@@ -107,6 +107,7 @@ Build and solve apart
     (:data:`planners.ocp.building.COMPILED`), so problems of the same shape reuse one
     solver and a new planner object plans at once with what an earlier one built; a
     pickled planner arrives without its own references to them.
+    :func:`planners.ocp.building.forget_compiled` frees the process's NLPs.
 
 Warm starts
     ``plan(problem, warm_start=traj)``: from a previous solution of the same shape, primal
