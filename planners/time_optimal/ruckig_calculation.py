@@ -68,13 +68,18 @@ def ruckig_input(
             inp.target_velocity,
             inp.target_acceleration,
         ) = states
+    _set_limits(inp, limits)
+    if minimum_duration is not None:
+        inp.minimum_duration = minimum_duration
+    return inp
+
+
+def _set_limits(inp: ruckig.InputParameter, limits: JointLimits) -> None:
+    """Set ``inp``'s velocity, acceleration and jerk limits from ``limits``."""
     floats = limits.floats
     inp.max_velocity = floats["velocity"]
     inp.max_acceleration = floats["acceleration"]
     inp.max_jerk = floats["jerk"]
-    if minimum_duration is not None:
-        inp.minimum_duration = minimum_duration
-    return inp
 
 
 #: Ruckig's defaults of the options a move sets (see reused_input).
@@ -96,10 +101,7 @@ class _Reused:
     def __init__(self, limits: JointLimits) -> None:
         self.limits = limits
         self.inp = ruckig.InputParameter(limits.n)
-        floats = limits.floats
-        self.inp.max_velocity = floats["velocity"]
-        self.inp.max_acceleration = floats["acceleration"]
-        self.inp.max_jerk = floats["jerk"]
+        _set_limits(self.inp, limits)
         self.changed: set[str] = set()
 
 
