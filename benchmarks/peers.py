@@ -44,9 +44,8 @@ from peer_timing import Row, measure, table
 
 from benchmarking import progress, write_report
 from optraj import robots
+from optraj.sweeps.processes import THREAD_VARIABLES
 
-#: Environment variables that set the BLAS and OpenMP thread counts; the protocol wants 1.
-THREADS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 #: The moves of ``--quick``: the first two of the protocol's 16 that a 2 s quintic can make
 #: within Panda's velocity limits (the others need a joint above its limit in 2 s).
 QUICK_MOVES = (4, 5)
@@ -82,7 +81,7 @@ def run(args: argparse.Namespace) -> tuple[list[Row], OcpRows]:
 
 def report(args: argparse.Namespace, rows: list[Row], ocp: OcpRows, seconds: float) -> list[str]:
     """The Markdown lines of the report."""
-    threads = ", ".join(f"{name}={os.environ.get(name, 'unset')}" for name in THREADS)
+    threads = ", ".join(f"{name}={os.environ.get(name, 'unset')}" for name in THREAD_VARIABLES)
     return [
         "# optraj against its peers",
         "",
@@ -132,15 +131,15 @@ def command(args: argparse.Namespace) -> str:
 
 
 def single_threaded() -> bool:
-    """Whether every thread-count variable of :data:`THREADS` is 1 in this process."""
-    return all(os.environ.get(name) == "1" for name in THREADS)
+    """Whether every BLAS/OpenMP thread-count variable is 1 in this process."""
+    return all(os.environ.get(name) == "1" for name in THREAD_VARIABLES)
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run the benchmark (in a child process with one thread when this one has more)."""
     arguments = list(sys.argv[1:] if argv is None else argv)
     if not single_threaded():
-        env = {**os.environ, **dict.fromkeys(THREADS, "1")}
+        env = {**os.environ, **dict.fromkeys(THREAD_VARIABLES, "1")}
         child = subprocess.run([sys.executable, __file__, *arguments], env=env, check=False)
         return child.returncode
     parser = argparse.ArgumentParser(description=(__doc__ or "").split("\n\n")[0])

@@ -14,6 +14,7 @@ from collections.abc import Callable
 import pytest
 
 from optraj import robots
+from optraj.sweeps.processes import THREAD_VARIABLES
 
 SHIPPED = ("paddle4", "sawyer", "youbot")
 EXTERNAL = ("panda", "ur5")
@@ -82,10 +83,6 @@ def pool_plan(pool_shot):
 
     room = dataclasses.replace(pool_shot, limits=pool_shot.robot.limits.scaled(0.8))
     return planners.OptimalControl("time").plan(room)
-
-
-#: The variables that size the BLAS and OpenMP thread pools of a process.
-THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 
 
 def pytest_configure(config: pytest.Config) -> None:
