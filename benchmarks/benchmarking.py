@@ -7,9 +7,9 @@ The scripts import this module by name; they run from the repository root
 from __future__ import annotations
 
 import argparse
-import sys
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -22,14 +22,33 @@ SPEED = 1.0
 SEED = 7
 
 
+class _Bars:
+    """The one progress bar the scripts draw at a time (tqdm, on stderr)."""
+
+    current: Any = None
+    done = 0
+
+
 def progress(done: int, total: int, label: str) -> None:
-    """A one-line progress bar on stderr."""
-    width = 30
-    filled = int(width * done / max(total, 1))
-    sys.stderr.write(f"\r{label:<28} [{'#' * filled}{'.' * (width - filled)}] {done}/{total}")
-    if done == total:
-        sys.stderr.write("\n")
-    sys.stderr.flush()
+    """Show ``done`` of ``total`` with ``label`` on stderr: a tqdm bar with the time left.
+
+    Drawn only on a terminal (nothing, not even a carriage return, when stderr is piped). A
+    call with a new ``total`` or a smaller ``done`` starts a new bar; ``done == total`` ends it.
+    """
+    from tqdm import tqdm
+
+    bar = _Bars.current
+    if bar is None or bar.total != total or done < _Bars.done:
+        if bar is not None:
+            bar.close()
+        bar = _Bars.current = tqdm(total=total, disable=None, dynamic_ncols=True, leave=True)
+        _Bars.done = 0
+    bar.set_description_str(label, refresh=False)
+    bar.update(done - _Bars.done)
+    _Bars.done = done
+    if done >= total:
+        bar.close()
+        _Bars.current = None
 
 
 def pool_shots(count: int, seed: int = SEED) -> tuple[list[problems.PoolStrike], int]:

@@ -1,43 +1,48 @@
-"""A one-line progress bar on stderr with an estimate of the time left."""
+"""The sweep's progress bar: tqdm on stderr, shown on a terminal only, with the time left."""
 
 from __future__ import annotations
 
-import sys
-import time
-from typing import TextIO
+from typing import Any, TextIO
 
 __all__ = ["Progress"]
 
 
 class Progress:
-    """Counts finished shots and redraws ``[####....] done/total, ~N s left`` on a stream.
+    """Counts finished shots and shows ``sweep: 40%|####  | 4/10 [00:02<00:03, ...]``.
+
+    The bar is tqdm's: drawn only when ``stream`` is a terminal (nothing, not even a carriage
+    return, goes to a pipe or a file), with the elapsed time and an estimate of the time left.
 
     Args:
         total: Shots to do.
-        enabled: Draw nothing when False.
+        enabled: Draw nothing when False (when True, still only on a terminal).
         stream: Where to draw; stderr when None.
     """
 
-    WIDTH = 30
-
     def __init__(self, total: int, enabled: bool = True, stream: TextIO | None = None) -> None:
+        from tqdm import tqdm  # type: ignore[import-untyped]  # no stubs installed
+
         self.total = total
         self.done = 0
         self.enabled = enabled and total > 0
-        self._stream = stream
-        self._start = time.monotonic()
+        # disable=None: tqdm draws only when the stream is a terminal.
+        self._bar: Any = tqdm(
+            total=total,
+            desc="sweep",
+            unit="shot",
+            file=stream,
+            disable=None if self.enabled else True,
+            leave=True,
+            dynamic_ncols=True,
+        )
 
     def advance(self, count: int = 1) -> None:
-        """Count ``count`` more finished shots and redraw."""
+        """Count ``count`` more finished shots and redraw; close the bar on the last one."""
         self.done += count
-        if not self.enabled:
-            return
-        stream = self._stream or sys.stderr
-        filled = int(self.WIDTH * self.done / self.total)
-        elapsed = time.monotonic() - self._start
-        left = elapsed / self.done * (self.total - self.done) if self.done else 0.0
-        bar = "#" * filled + "." * (self.WIDTH - filled)
-        stream.write(f"\rsweep [{bar}] {self.done}/{self.total}, ~{left:.0f} s left ")
+        self._bar.update(count)
         if self.done >= self.total:
-            stream.write("\n")
-        stream.flush()
+            self.close()
+
+    def close(self) -> None:
+        """End the bar's line (once; later calls do nothing)."""
+        self._bar.close()
