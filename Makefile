@@ -31,7 +31,7 @@ $(PEERS): pyproject.toml $(STAMP)
 	touch $(PEERS)
 
 bench: $(STAMP) $(PEERS)
-	$(BIN)/python benchmarks/run_all.py --readme
+	$(BIN)/python benchmarks/run_all.py --out benchmarks/results --readme
 
 # 100,000 fuzz cases from a fixed seed (FUZZ_SEED, FUZZ_CASES override), under 10 min on
 # 2 cores; rewrites benchmarks/results/fuzz.md.

@@ -11,6 +11,10 @@ Runs ``time_optimal.py``, ``strike.py``, ``tracking.py``, ``outcome.py``, ``swee
 With ``--readme`` it then rewrites the README's results section (between its two markers)
 from the tables just written, so that the README's numbers are never typed by hand.
 
+Without ``--out`` everything goes to a new temporary folder (printed at the end), so that a
+run never rewrites the committed ``benchmarks/results/``; ``make bench`` passes
+``--out benchmarks/results --readme``.
+
 Usage: ``python benchmarks/run_all.py [--quick] [--out DIR] [--readme]``
 """
 
@@ -19,6 +23,7 @@ from __future__ import annotations
 import argparse
 import re
 import sys
+import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -30,7 +35,6 @@ import sweep
 import time_optimal
 import tracking
 
-from benchmarking import progress
 from optraj import controllers, planners, problems
 from optraj.errors import OptrajError
 
@@ -54,18 +58,26 @@ BENCHMARKS: list[tuple[str, Callable[[list[str]], int], list[str]]] = [
 def run_benchmarks(out: Path, quick: bool) -> None:
     """Run every benchmark, each writing ``<name>.md`` into ``out``.
 
+    Each one starts with a line on stderr (which one, how long the run has taken so far); the
+    benchmarks draw their own progress bars.
+
     Raises:
         RuntimeError: A benchmark returned a non-zero status.
     """
+    started = time.perf_counter()
     for index, (name, main, extra) in enumerate(BENCHMARKS):
-        progress(index, len(BENCHMARKS), f"benchmark {name}")
+        elapsed = time.perf_counter() - started
+        print(
+            f"benchmark {index + 1}/{len(BENCHMARKS)}: {name} (after {elapsed:.0f} s)",
+            file=sys.stderr,
+            flush=True,
+        )
         arguments = [*extra, "--out", str(out / f"{name}.md")]
         if quick:
             arguments.append("--quick")
         status = main(arguments)
         if status != 0:
             raise RuntimeError(f"benchmark {name} exited with status {status}")
-    progress(len(BENCHMARKS), len(BENCHMARKS), "benchmarks")
 
 
 def draw_plots(out: Path) -> list[Path]:
@@ -199,26 +211,40 @@ def rewrite_readme(readme: Path, section: str) -> None:
     readme.write_text(text[:begin] + section + text[end + len(END) :])
 
 
+def output_folder(given: Path | None) -> Path:
+    """The folder the run writes to: ``given`` (created if needed), else a new temporary one."""
+    if given is None:
+        return Path(tempfile.mkdtemp(prefix="optraj-bench-"))
+    given.mkdir(parents=True, exist_ok=True)
+    return given
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run every benchmark, draw the plots, optionally rewrite the README."""
     parser = argparse.ArgumentParser(description=(__doc__ or "").split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="few cases only (for CI)")
-    parser.add_argument("--out", type=Path, default=RESULTS, help="folder for tables and plots")
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        help="folder for tables and plots (default: a new temporary folder; make bench "
+        f"passes {RESULTS.relative_to(ROOT)})",
+    )
     parser.add_argument(
         "--readme", action="store_true", help="rewrite the README's results section"
     )
     args = parser.parse_args(argv)
     started = time.perf_counter()
-    args.out.mkdir(parents=True, exist_ok=True)
-    run_benchmarks(args.out, args.quick)
-    for path in draw_plots(args.out):
+    out = output_folder(args.out)
+    run_benchmarks(out, args.quick)
+    for path in draw_plots(out):
         print(f"wrote {path}")
     if args.readme:
-        folder = args.out.resolve()
+        folder = out.resolve()
         images = folder.relative_to(ROOT) if folder.is_relative_to(ROOT) else folder
-        rewrite_readme(README, results_section(args.out, images))
+        rewrite_readme(README, results_section(out, images))
         print(f"rewrote the results section of {README}")
-    print(f"all benchmarks in {time.perf_counter() - started:.0f} s")
+    print(f"all benchmarks in {time.perf_counter() - started:.0f} s; tables and plots in {out}")
     return 0
 
 
