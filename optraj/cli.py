@@ -35,10 +35,13 @@ __all__ = [
     "main",
     "make_planner",
     "tag_trajectory",
+    "version",
 ]
 
+from optraj.cli_errors import error_line, option_flags
 from optraj.cli_map import add_map_parser
 from optraj.cli_problems import PROBLEMS, build_problem, check_fit, joint_words
+from optraj.cli_robots import add_robots_parser
 
 
 class _Planners(Mapping[str, tuple[str, ...]]):
@@ -75,6 +78,13 @@ _OPTION_PROBLEMS: dict[str, tuple[str, ...]] = {
 
 
 # ------------------------------------------------------------------------ shared pieces
+
+
+def version() -> str:
+    """The installed distribution's version (its metadata), ``0+unknown`` when not installed."""
+    import optraj
+
+    return str(optraj.__version__)
 
 
 def make_planner(problem: str, name: str) -> Any:
@@ -114,14 +124,6 @@ def _cmd_demo(args: argparse.Namespace, out: TextIO) -> int:
     from optraj import demo
 
     return demo.run(args, out)
-
-
-def _cmd_robots(args: argparse.Namespace, out: TextIO) -> int:
-    from optraj import robots
-
-    for name, summary in robots.known_robots().items():
-        out.write(f"{name:<10}{summary}\n")
-    return 0
 
 
 def _plan_options(args: argparse.Namespace) -> dict[str, Any]:
@@ -218,7 +220,12 @@ def _cmd_check(args: argparse.Namespace, out: TextIO) -> int:
     # Before the file is read: a bad flag is the first thing to say.
     rate = as_positive(args.rate, "--rate", "Hz", maximum=MAX_RATE)
     # Typed errors for a missing, unreadable, oversized, deeply nested or malformed file.
-    traj = planners.Trajectory.from_json(Path(args.file))
+    try:
+        traj = planners.Trajectory.from_json(Path(args.file))
+    except InvalidInputError as exc:
+        if type(exc) is not InvalidInputError or args.file in str(exc):
+            raise
+        raise InvalidInputError(f"{args.file!r}: {exc}", name="file", value=args.file) from exc
     saved = traj.metadata.get("robot")
     if saved is not None and not isinstance(saved, str):
         raise InvalidInputError(f"{args.file!r} has a malformed robot name", name="robot")
@@ -256,6 +263,26 @@ def _benchmarks_runner() -> Path:
     return Path(optraj.__file__).resolve().parents[1] / "benchmarks" / "run_all.py"
 
 
+def _bench_folder(given: str | None) -> Path:
+    """Where ``optraj bench`` writes: ``given`` (created if needed), else a new temporary folder.
+
+    ``given`` is taken from the caller's directory; the committed ``benchmarks/results/`` is
+    written only when named (``make bench`` does).
+    """
+    import tempfile
+
+    if given is None:
+        return Path(tempfile.mkdtemp(prefix="optraj-bench-"))
+    folder = Path(given).resolve()
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InvalidInputError(
+            f"cannot create the output folder {given!r}: {exc.strerror or exc}", name="out"
+        ) from exc
+    return folder
+
+
 def _cmd_bench(args: argparse.Namespace, out: TextIO) -> int:
     runner = _benchmarks_runner()
     if not runner.is_file():
@@ -265,10 +292,12 @@ def _cmd_bench(args: argparse.Namespace, out: TextIO) -> int:
             "-e .) and run optraj bench there"
         )
     root = runner.parents[1]
+    folder = _bench_folder(args.out)
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(root), env.get("PYTHONPATH")]))
     out.flush()
     command = [sys.executable, str(runner), *(["--quick"] if args.quick else [])]
+    command += ["--out", str(folder)]
     return subprocess.run(command, cwd=root, env=env, check=False).returncode
 
 
@@ -313,10 +342,15 @@ def _parser() -> argparse.ArgumentParser:
             "(one line on stderr). 'optraj COMMAND --help' gives each command's units."
         ),
     )
+    parser.add_argument(
+        "--version",
+        action="version",
+        version=f"optraj {version()}",
+        help="print the installed version and exit",
+    )
     sub = parser.add_subparsers(dest="command", required=True)
     _demo_parser(sub)
-    listing = sub.add_parser("robots", help="list the robots that robots.load() knows")
-    listing.set_defaults(run=_cmd_robots)
+    add_robots_parser(sub)
     _plan_parser(sub)
     _check_parser(sub)
     bench = sub.add_parser(
@@ -324,11 +358,19 @@ def _parser() -> argparse.ArgumentParser:
         help="run the benchmarks (source checkout only)",
         description=(
             "Run benchmarks/run_all.py of the source checkout with this Python: the time-optimal, "
-            "strike and tracking benchmarks; tables and plots go to benchmarks/results/. Exits "
-            "with the runner's status, 2 when the benchmarks are not there (installed package)."
+            "strike, tracking, outcome, sweep and peer benchmarks; tables (Markdown) and plots "
+            "(PNG) go to --out, a new temporary folder by default (printed at the end). The "
+            "committed benchmarks/results/ and the README's tables are rewritten by 'make bench' "
+            "only. Exits with the runner's status, 2 when the benchmarks are not there "
+            "(installed package)."
         ),
     )
     bench.add_argument("--quick", action="store_true", help="a few cases only, as in CI")
+    bench.add_argument(
+        "--out",
+        metavar="DIR",
+        help="folder for the tables and plots, created if needed (default: a new temporary folder)",
+    )
     bench.set_defaults(run=_cmd_bench)
     add_map_parser(sub)
     return parser
@@ -337,15 +379,17 @@ def _parser() -> argparse.ArgumentParser:
 def _demo_parser(sub: Any) -> None:
     demo = sub.add_parser(
         "demo",
-        help="run the main job: robots, the pool shot by every planner, tracking, plots",
+        help="the pool shot by every planner: what each did and why, tracking, the ball",
         description=(
-            "Print every robot's joints and limits (units per row), the ECE486 seed's paddle "
-            "table and the checker's verdicts on classic plans; then plan the Sawyer pool shot "
-            "(cue at 1 m/s) with every strike planner and check each plan (motion time [s], "
-            "peaks as a fraction of the limits, strike position error [mm]), track the "
-            "minimum-time optimal-control plan (planned within 80 % of the limits) with the "
-            "pseudo-inverse PID and the differential-IK QP (errors in mm and %, step time in "
-            "us), and write plots (PNG) and plans (JSON) to --out."
+            "Plan the Sawyer pool shot (cue at 1 m/s) with every pool-shot planner and say in "
+            "one line each what it did and why (motion time [s], peaks as a share of the "
+            "limits, cue distance from the strike line [mm], or the reason for a refusal); "
+            "track the minimum-time optimal-control plan (made within 80 % of the limits) with "
+            "the pseudo-inverse PID and the differential-IK QP (errors in mm and %, step time "
+            "in us); strike the ball in MuJoCo (heading error [deg], speed error [%], ball "
+            "speed [m/s]); give the checker's verdicts on the youBot pick and place and the "
+            "ECE486 paddle task; write plots (PNG) and plans (JSON) to --out and say which "
+            "files to open next. About 10 s. Joint and limit tables: optraj robots NAME."
         ),
     )
     demo.add_argument(
@@ -353,12 +397,6 @@ def _demo_parser(sub: Any) -> None:
         default="optraj-out",
         metavar="DIR",
         help="directory for the plots and plans, created if needed (default: ./optraj-out)",
-    )
-    demo.add_argument(
-        "--strict",
-        dest="skip_missing",
-        action="store_false",
-        help="fail instead of skipping robots whose optional package is missing",
     )
     demo.set_defaults(run=_cmd_demo)
 
@@ -495,9 +533,19 @@ def _check_parser(sub: Any) -> None:
     check.set_defaults(run=_cmd_check)
 
 
+def _command_parser(parser: argparse.ArgumentParser, command: str) -> argparse.ArgumentParser:
+    """The sub-command's own parser (its options name the errors)."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            found: argparse.ArgumentParser = action.choices[command]
+            return found
+    return parser
+
+
 def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
     """Run the command line; returns the exit status (0 ok, 1 check failed, 2 bad input)."""
-    args = _parser().parse_args(argv)
+    parser = _parser()
+    args = parser.parse_args(argv)
     stream = out if out is not None else sys.stdout
     try:
         return int(args.run(args, stream))
@@ -507,7 +555,9 @@ def main(argv: Sequence[str] | None = None, out: TextIO | None = None) -> int:
         message = str(exc)
         if isinstance(exc, OSError) and exc.filename is not None:
             message = f"cannot use {str(exc.filename)!r}: {exc.strerror or exc}"
-        print(f"optraj: error: {' '.join(message.split())}", file=sys.stderr)
+        flags = option_flags(_command_parser(parser, args.command))
+        line = error_line(exc, " ".join(message.split()), flags, vars(args))
+        print(f"optraj: error: {line}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("optraj: interrupted", file=sys.stderr)

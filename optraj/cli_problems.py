@@ -134,11 +134,26 @@ def _point_to_point(robot: str, get: Getter) -> Any:
     if built.duration is None and built.still:  # the one still-move rule
         raise InvalidInputError(
             "the goal equals the start (--q-start and --q-goal default to home): give "
-            f"--q-goal as {model.dof} joint positions [rad or m] or a pose name "
-            f"({', '.join(model.poses)}), or a --duration to hold still",
+            f"--q-goal as {model.dof} joint positions [rad or m]{_other_poses(model, built)}, "
+            "or a --duration to hold still",
             name="q_goal",
         )
     return built
+
+
+def _other_poses(robot: Any, problem: Any) -> str:
+    """`` or a pose name (a, b)`` for the named poses away from the start; ``""`` if none.
+
+    A pose that only renames the start (Sawyer's ``neutral`` is its ``home``) is no way out.
+    """
+    import numpy as np
+
+    names = [
+        name
+        for name, q in robot.poses.items()
+        if not np.allclose(q, problem.q_start, rtol=0.0, atol=1e-12)
+    ]
+    return f" or a pose name ({', '.join(names)})" if names else ""
 
 
 def _youbot_blocks(get: Getter) -> Any:

@@ -1,12 +1,12 @@
-"""``optraj demo``: the main job, from the robots to a tracked pool shot.
+"""``optraj demo``: the Sawyer pool shot, from the planners to where the ball went.
 
-It prints every robot's joints, limits and tool pose at home, reproduces the ECE486 seed's
-paddle table, shows the independent checker's verdict on classic plans, then plans the Sawyer
-pool shot at 1 m/s with every strike planner, checks each plan, tracks the minimum-time
-optimal-control plan (planned within 80 % of the limits) with the seed's pseudo-inverse PID and
-the differential-IK QP, strikes the ball with the plan alone and with each controller in a
-MuJoCo world (where the ball went), and writes plots (PNG) and plans (JSON) to the output
-directory.
+It plans the pool shot (cue at 1 m/s) with every pool-shot planner and says, one line each,
+what each did and why (:mod:`optraj.demo_shot`); tracks the minimum-time optimal-control plan
+with the pseudo-inverse PID and the differential-IK QP; strikes the ball in MuJoCo and says
+where it went; gives the checker's verdicts on the other tasks (the youBot pick and place, the
+ECE486 paddle task) in a few lines; writes plots (PNG) and plans (JSON) to the output folder;
+and ends with which files to open next. The robots' joint and limit tables are
+``optraj robots NAME``.
 
 Everything heavy is imported inside the functions, so that ``import optraj`` stays cheap.
 """
@@ -14,320 +14,181 @@ Everything heavy is imported inside the functions, so that ``import optraj`` sta
 from __future__ import annotations
 
 import argparse
-import functools
-import math
-import re
 import sys
-import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TextIO
 
-from optraj.errors import InvalidInputError, MissingDependencyError, OptrajError
+from optraj.demo_shot import (
+    ball_section,
+    plan_every_planner,
+    planner_section,
+    short_reason,
+    tracking_section,
+)
+from optraj.errors import InvalidInputError, MissingDependencyError
 
-__all__ = ["run", "short_reason", "strike_section", "write_plots"]
+__all__ = ["Progress", "run", "short_reason", "viewer_file", "write_plots"]
 
-#: The shot every planner plans, and how it is checked.
-SHOT_SPEED = 1.0  # [m/s]
-QUANTITIES = ("position", "velocity", "acceleration", "jerk")
-#: Fraction of the limits the tracked plan is planned within (room for the controllers).
-TRACKING_SCALE = 0.8
+#: The shot every planner plans [m/s].
+SHOT_SPEED = 1.0
+#: Steps the progress bar counts: 8 planners, 3 tracking steps, 3 strikes, 2 tasks, files.
+STEPS = 17
 
 
 class Progress:
-    """One status line on stderr, rewritten in place; silent unless stderr is a terminal."""
+    """The demo's progress bar on stderr: tqdm, on a terminal only, gone when done.
 
-    def __init__(self, stream: TextIO | None = None) -> None:
-        self.stream = stream if stream is not None else sys.stderr
-        self.enabled = bool(getattr(self.stream, "isatty", lambda: False)())
-        self.started = time.perf_counter()
+    Call it with what is being done now; each call counts one step of ``total``.
+    """
+
+    def __init__(self, total: int = STEPS, stream: TextIO | None = None) -> None:
+        from tqdm import tqdm  # type: ignore[import-untyped]  # no stubs installed
+
+        # disable=None: drawn only when the stream is a terminal (no carriage return in a pipe).
+        self._bar: Any = tqdm(
+            total=total, file=stream if stream is not None else sys.stderr, disable=None,
+            leave=False, dynamic_ncols=True, bar_format="{desc} {bar} {elapsed}<{remaining}",
+        )  # fmt: skip
+        self._started = False
 
     def __call__(self, message: str) -> None:
-        """Show what is being done now."""
-        if self.enabled:
-            elapsed = time.perf_counter() - self.started
-            self.stream.write(f"\r\033[K[{elapsed:5.1f} s] {message} ...")
-            self.stream.flush()
+        """Show ``message`` as the step now being done (the one before it is finished)."""
+        if self._started:
+            self._bar.update(1)
+        self._started = True
+        self._bar.set_description_str(message)
 
     def done(self) -> None:
-        """Clear the status line."""
-        if self.enabled:
-            self.stream.write("\r\033[K")
-            self.stream.flush()
+        """Clear the bar."""
+        self._bar.close()
 
 
 def run(args: argparse.Namespace, out: TextIO) -> int:
     """Run the whole demo; returns the exit status."""
-    from optraj import robots
+    from optraj import problems
 
+    out_dir = _output_folder(Path(args.out))
     progress = Progress()
     try:
-        out.write("optraj robots: joints, limits (units per row) and the tool pose at home\n")
-        missing = []
-        for name in robots.known_robots():
-            progress(f"loading {name}")
-            try:
-                _robot_report(name, out)
-            except MissingDependencyError as exc:
-                if not args.skip_missing:
-                    raise
-                missing.append(f"{name} ({exc})")
-        for line in missing:
-            out.write(f"\nskipped {line}\n")
-        _seed_table(out)
-        progress("checking classic plans")
-        _verdicts(out)
-        strike_section(Path(args.out), out, progress)
+        problem = problems.sawyer_pool_shot(speed=SHOT_SPEED)
+        x, y, z = problem.ball
+        out.write(
+            f"optraj demo: a Sawyer arm strikes a pool ball with a cue, {SHOT_SPEED:g} m/s through "
+            f"the ball at ({x:.2f}, {y:.2f}, {z:.2f}) m\n"
+        )
+        attempts = plan_every_planner(problem, progress)
+        planner_section(problem, attempts, out)
+        tracked, runs = tracking_section(problem, progress, out)
+        ball = None if tracked is None else ball_section(problem, tracked, progress, out)
+        _other_tasks(progress, out)
+        progress("writing plots and plans")
+        plans = {a.key: a.traj for a in attempts if a.traj is not None}
+        written = _write_files(out_dir, problem, plans, tracked, runs, ball, out)
     finally:
         progress.done()
+    _next_files(out_dir, written, out)
     return 0
 
 
-# ------------------------------------------------------------------ robots and the seed
+def _output_folder(folder: Path) -> Path:
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InvalidInputError(
+            f"cannot create the output directory {str(folder)!r}: {exc.strerror}", name="out"
+        ) from exc
+    return folder
 
 
-def _robot_report(name: str, out: TextIO) -> None:
-    import numpy as np
-    import pinocchio as pin
-
-    from optraj import robots
-
-    robot = robots.load(name)
-    T = robot.tool_pose(robot.home)
-    rpy = pin.rpy.matrixToRpy(T[:3, :3])
-    out.write(f"\n{robot.name}: {robot.description}\n")
-    width = max(len(joint) for joint in ("joint", *robot.joint_names)) + 2
-    header = (
-        f"  {'joint':<{width}}{'unit':>5}{'lower':>10}{'upper':>10}{'home':>10}"
-        f"{'vel':>9}{'acc':>9}{'jerk':>9}{'effort':>9}\n"
-    )
-    out.write(header)
-    for row, q in zip(robot.limits.table(), robot.home, strict=True):
-        out.write(
-            f"  {row['joint']:<{width}}{row['unit']:>5}{row['lower']:>10.4f}{row['upper']:>10.4f}"
-            f"{q:>10.4f}{row['velocity']:>9.3f}{row['acceleration']:>9.2f}{row['jerk']:>9.1f}"
-            f"{row['effort']:>9.2f}\n"
-        )
-    # Adding 0.0 turns -0.0 into 0.0 for printing.
-    position = np.array2string(T[:3, 3] + 0.0, precision=4, floatmode="fixed", suppress_small=True)
-    angles = np.array2string(
-        np.round(np.degrees(rpy), 2) + 0.0, precision=2, floatmode="fixed", suppress_small=True
-    )
-    out.write(
-        f"  tool frame {robot.tool_frame!r} at home: position {position} m, "
-        f"roll-pitch-yaw {angles} deg\n"
-    )
-
-
-def _seed_table(out: TextIO) -> None:
-    import numpy as np
-
-    from optraj import planners, problems
-
-    problem = problems.seed_paddle_strike()
-    traj = planners.Cubic().plan(problem)
-    times = np.arange(0.0, problem.contact_time + 1e-9, 1.0 / 5.0)
-    out.write(
-        "\npaddle4, seed ECE486: ball (1.1, 0.8, 0.7) m from home, cubic, T = 2 s, 5 Hz\n"
-        f"  {'t [s]':>6}{'J1 [m]':>9}{'J2 [rad]':>10}{'J3 [m]':>9}{'J4 [rad]':>10}\n"
-    )
-    for t, q in zip(times, traj.sample(times).q, strict=True):
-        out.write(f"  {t:>6.1f}{q[0]:>9.4f}{q[1]:>10.4f}{q[2]:>9.4f}{q[3]:>10.4f}\n")
-
-
-def _verdicts(out: TextIO) -> None:
+def _other_tasks(progress: Any, out: TextIO) -> None:
+    """The checker's verdict on the youBot pick and place and the ECE486 paddle task."""
     from optraj import planners, problems
     from optraj.cli import describe_failures
 
-    cases: list[tuple[str, Any, Any, tuple[str, ...] | None]] = [
-        ("youBot pick and place", planners.PickAndPlacePlanner(planners.Quintic()),
-         problems.youbot_two_blocks(), ("position", "velocity", "acceleration", "jerk")),
-        ("youBot pick and place", planners.PickAndPlacePlanner(planners.LSPB()),
-         problems.youbot_two_blocks(), ("position", "velocity", "acceleration")),
-        ("Sawyer pool shot 1 m/s", planners.SeedStrike(), problems.sawyer_pool_shot(), None),
-    ]  # fmt: skip
-    out.write(
-        "\nthe independent checker on classic plans (failures: value as % of the limit)\n"
-        f"  {'task':<24}{'planner':<30}{'time [s]':>9}  {'verdict':<8}checked / failing findings\n"
-    )
-    for task, planner, problem, quantities in cases:
-        traj = planner.plan(problem)
-        report = planners.check(traj, problem, quantities=quantities)
-        if report.violations:
-            note = describe_failures(report)
-        else:
-            note = "+".join(q[:3] for q in (quantities or planners.checker.QUANTITIES)) + ", task"
-        verdict = "ok" if report.ok else "FAIL"
-        out.write(f"  {task:<24}{planner.name:<30}{traj.duration:>9.3f}  {verdict:<8}{note}\n")
-
-
-# ------------------------------------------------------------------ the pool shot
-
-
-def short_reason(exc: BaseException, width: int = 100) -> str:
-    """``ErrorClass: first clause of the message``, without asides, at most ``width`` long."""
-    message = " ".join(str(exc).split()).split("; ")[0]
-    message = re.sub(r"\s*\([^()]*\)", "", message)
-    text = f"{type(exc).__name__}: {message}"
-    return text if len(text) <= width else text[: width - 3].rstrip() + "..."
-
-
-def _ratio(value: float) -> str:
-    return "inf" if math.isinf(value) else f"{value:.2f}"
-
-
-def strike_section(out_dir: Path, out: TextIO, progress: Any = None) -> None:
-    """Plan, check and track the pool shot; write plots and plans to ``out_dir``."""
-    from optraj import planners, problems
-    from optraj.cli import PLANNERS, describe_failures, make_planner, tag_trajectory
-
-    progress = progress if progress is not None else (lambda message: None)
-    try:
-        out_dir.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InvalidInputError(
-            f"cannot create the output directory {str(out_dir)!r}: {exc.strerror}", name="out"
-        ) from exc
-    problem = problems.sawyer_pool_shot(speed=SHOT_SPEED)
-    robot = problem.robot
-    options = {"speed": SHOT_SPEED}
-    out.write(
-        f"\nSawyer pool shot {SHOT_SPEED:g} m/s: every planner (checked: position, velocity, "
-        "acceleration, jerk and the task; vel/acc/jerk: peak / limit, worst joint)\n"
-        f"  {'planner':<28}{'time [s]':>9}  {'verdict':<8}{'vel':>6}{'acc':>6}{'jerk':>6}"
-        f"{'strike pos [mm]':>17}  failing findings / error\n"
-    )
-    plans: dict[str, Any] = {}
-    files: dict[str, Any] = {}
-    for key in PLANNERS["pool-shot"]:
-        planner = make_planner("pool-shot", key)
-        label = planner.name
-        progress(f"planning the pool shot: {label}")
-        try:
-            traj = planner.plan(problem)
-        except OptrajError as exc:
-            out.write(f"  {label:<28}{'-':>9}  {'error':<8}{'':>18}{'':>17}  {short_reason(exc)}\n")
-            continue
-        report = planners.check(traj, problem, quantities=QUANTITIES)
-        position = report["strike position"].value * 1e3
+    out.write("\nother tasks, judged by the same checker\n")
+    progress("the youBot pick and place")
+    task = problems.youbot_two_blocks()
+    for planner in (planners.Quintic(), planners.LSPB()):
+        traj = planners.PickAndPlacePlanner(planner).plan(task)
+        quantities = QUANTITIES_OF.get(planner.name)
+        report = planners.check(traj, task, quantities=quantities)
+        verdict = "ok" if report.ok else f"FAIL: {describe_failures(report)}"
         out.write(
-            f"  {label:<28}{traj.duration:>9.3f}  {'ok' if report.ok else 'FAIL':<8}"
-            f"{_ratio(report['velocity'].ratio):>6}{_ratio(report['acceleration'].ratio):>6}"
-            f"{_ratio(report['jerk'].ratio):>6}{position:>17.3f}  "
-            f"{describe_failures(report) or '-'}\n"
+            f"  youBot pick and place of two blocks, {planner.name} phases: {traj.duration:.3f} s, "
+            f"{verdict}\n"
         )
-        tag_trajectory(traj, "sawyer", "pool-shot", options)
-        plans[label] = traj
-        files[f"plan-{key}.json"] = traj
+    progress("the ECE486 paddle task")
+    paddle = problems.seed_paddle_strike()
+    traj = planners.Cubic().plan(paddle)
+    report = planners.check(traj, paddle)
+    end = ", ".join(f"{v:.4f}" for v in traj.sample(traj.duration).q)
+    x, y, z = paddle.ball
+    out.write(
+        f"  the ECE486 paddle task (paddle4 to the ball at ({x:g}, {y:g}, {z:g}) m, cubic, "
+        f"{traj.duration:g} s): ends at q = ({end}), {'ok' if report.ok else 'FAIL'}\n"
+    )
 
-    progress(f"planning within {TRACKING_SCALE:.0%} of the limits")
-    runs = _tracking(problem, files, progress, out)
-    progress("writing plots and plans")
-    written = write_plots(out_dir, robot, plans, runs, out)
+
+#: What the pick-and-place plans are checked for: LSPB has no jerk to speak of.
+QUANTITIES_OF = {"lspb": ("position", "velocity", "acceleration")}
+
+
+def _write_files(
+    out_dir: Path,
+    problem: Any,
+    plans: dict[str, Any],
+    tracked: Any,
+    runs: list[Any],
+    ball: Any,
+    out: TextIO,
+) -> list[Path]:
+    """Write the plots, the plans (JSON, tagged for ``optraj check``) and the viewer file."""
+    from optraj.cli import tag_trajectory
+
+    files = {f"plan-{key}.json": traj for key, traj in plans.items()}
+    if tracked is not None:
+        tag = {"limit_scale": 0.8}
+        files["plan-optimal-control-tracked.json"] = tracked
+    written = write_plots(out_dir, problem.robot, plans, runs, out)
     for name, traj in files.items():
+        options = {"speed": SHOT_SPEED, **(tag if traj is tracked else {})}
+        tag_trajectory(traj, "sawyer", "pool-shot", options)
         path = out_dir / name
         traj.to_json(path)
         written.append(path)
-    if written:
-        out.write(f"\nwrote to {out_dir}/: {', '.join(path.name for path in written)}\n")
+    viewer = viewer_file(out_dir, problem, tracked, ball)
+    if viewer is not None:
+        written.append(viewer)
+    return written
 
 
-def _tracking(problem: Any, files: dict[str, Any], progress: Any, out: TextIO) -> list[Any]:
-    """Track the min-time plan made within a fraction of the limits; print the table."""
-    import dataclasses
+def viewer_file(out_dir: Path, problem: Any, traj: Any, outcome: Any) -> Path | None:
+    """Write the 3-D view of the shot (a self-contained HTML file) and return its path.
 
-    from optraj import controllers, planners
-    from optraj.cli import tag_trajectory
+    The hook for the viewer: the robot with its cue, the table, the ball and its path,
+    animated along ``traj``. Returns None while optraj has no viewer (nothing is written).
+    """
+    return None
 
-    robot = problem.robot
-    roomy = dataclasses.replace(problem, limits=robot.limits.scaled(TRACKING_SCALE))
-    title = (
-        f"\ntracking the minimum-time optimal-control plan, planned within "
-        f"{TRACKING_SCALE:.0%} of the limits"
-    )
-    try:
-        traj = planners.OptimalControl(objective="time").plan(roomy)
-    except OptrajError as exc:
-        out.write(f"{title}: not planned ({short_reason(exc)})\n")
-        return []
-    tag_trajectory(
-        traj, "sawyer", "pool-shot", {"speed": SHOT_SPEED, "limit_scale": TRACKING_SCALE}
-    )
-    files["plan-optimal-control-tracked.json"] = traj
+
+def _next_files(out_dir: Path, written: list[Path], out: TextIO) -> None:
+    """Which files to open next."""
+    plots = [p.name for p in written if p.suffix == ".png"]
+    plans = [p.name for p in written if p.suffix == ".json"]
+    pages = [p.name for p in written if p.suffix == ".html"]
+    out.write(f"\nopen next (in {out_dir}/)\n")
+    if pages:
+        out.write(f"  the shot in 3-D, in a browser: {', '.join(pages)}\n")
+    if plots:
+        out.write(f"  plots: {', '.join(plots)}\n")
+    if plans:
+        out.write(f"  plans, to check again with optraj check FILE: {', '.join(plans)}\n")
     out.write(
-        f"{title} ({traj.duration:.3f} s), 1 kHz, rigid-body plant\n"
-        f"  {'controller':<22}{'tool error':>12}{'strike line':>13}{'strike speed':>14}"
-        f"{'commands over':>15}{'worst command':>15}{'median step':>13}\n"
-        f"  {'':<22}{'max [mm]':>12}{'error [mm]':>13}{'error [%]':>14}{'a limit':>15}"
-        f"{'/ limit':>15}{'time [us]':>13}\n"
+        "  README.md: 'A short tour', 'Tracking', 'Where the ball goes: MuJoCo', 'Results'\n"
+        "  notebooks/01_profiles.ipynb, notebooks/02_pool_strike.ipynb, "
+        "notebooks/03_paddle_and_pick.ipynb\n"
+        "  the robots' joints and limits: optraj robots NAME\n"
     )
-    runs = []
-    for controller in (controllers.PseudoInversePID(robot), controllers.DiffIKQP(robot)):
-        progress(f"tracking with {type(controller).__name__}")
-        result = controllers.simulate(robot, traj, controller)
-        metrics = result.metrics
-        command = metrics.violations["command"]
-        strike = metrics.strike
-        line = "-" if strike is None else f"{strike.line_max * 1e3:.3f}"
-        speed = "-" if strike is None else f"{strike.speed_error_max * 100:.2f}"
-        out.write(
-            f"  {result.controller:<22}{metrics.position_max * 1e3:>12.3f}{line:>13}{speed:>14}"
-            f"{command.count:>15d}{command.worst:>15.3f}{metrics.step_time_median * 1e6:>13.1f}\n"
-        )
-        runs.append(result)
-    progress("striking the ball in MuJoCo")
-    _where_the_ball_went(problem, traj, out)
-    return runs
-
-
-def _signed(value: float, digits: int = 3) -> str:
-    """``value`` with its sign, never ``-0.000``."""
-    return f"{round(value, digits) + 0.0:+.{digits}f}"
-
-
-def _tracked(robot: Any, traj: Any, controller: Any, scene: Any) -> Any:
-    """The controller following the plan in the MuJoCo strike world (0.05 s to settle)."""
-    from optraj import controllers, physics
-
-    return controllers.simulate(
-        robot, traj, controller, plant=physics.MujocoPlant(scene), settle=0.05
-    )
-
-
-def _where_the_ball_went(problem: Any, traj: Any, out: TextIO) -> None:
-    """The plan alone and each controller on the MuJoCo plant: where the ball went."""
-    from optraj import controllers, physics
-
-    robot = problem.robot
-    scene = physics.scene_for(problem)
-    x, y, z = problem.ball
-    out.write(
-        f"\nwhere the ball went (MuJoCo: cue on a pool ball at ({x:.3f}, {y:.3f}, {z:.3f}) m, "
-        f"on target = within {physics.HEADING_TOLERANCE:g} deg and "
-        f"{100 * physics.SPEED_TOLERANCE:g} % of the shot)\n"
-        f"  {'run':<22}{'heading':>9}{'speed':>8}{'ball speed':>12}{'rest position':>24}"
-        "  verdict\n"
-        f"  {'':<22}{'[deg]':>9}{'[%]':>8}{'[m/s]':>12}{'x, y [m]':>24}\n"
-    )
-    runs: list[tuple[str, Callable[[], Any]]] = [
-        ("plan alone", lambda: physics.replay(scene, traj))
-    ]
-    for controller in (controllers.PseudoInversePID(robot), controllers.DiffIKQP(robot)):
-        runs.append((controller.name, functools.partial(_tracked, robot, traj, controller, scene)))
-    for label, run in runs:
-        try:
-            ball = physics.outcome(run(), problem)
-        except OptrajError as exc:
-            out.write(f"  {label:<22}{'-':>9}{'-':>8}{'-':>12}{'-':>24}  {short_reason(exc)}\n")
-            continue
-        if not ball.hit:
-            out.write(f"  {label:<22}{'-':>9}{'-':>8}{'-':>12}{'-':>24}  missed the ball\n")
-            continue
-        rest = f"{ball.rest_position[0]:.3f}, {ball.rest_position[1]:.3f}"
-        out.write(
-            f"  {label:<22}{_signed(ball.heading_error):>9}{_signed(100 * ball.speed_error, 2):>8}"
-            f"{ball.launch_speed:>12.3f}{rest:>24}  {'on target' if ball.within else 'OFF'}\n"
-        )
 
 
 def write_plots(
