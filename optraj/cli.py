@@ -1,16 +1,18 @@
 """The ``optraj`` command.
 
-``optraj demo`` runs the main job (:mod:`optraj.demo`): every robot's joints and limits, the
-ECE486 seed's paddle table, the checker on classic plans, then the Sawyer pool shot planned by
-every strike planner, checked, tracked by both controllers, with plots and plans written to
-``--out``. ``optraj plan`` plans one problem with one planner and writes the trajectory as
-JSON, ``optraj check`` judges such a file again, ``optraj bench`` runs the benchmarks of the
-source checkout, ``optraj robots`` lists the robots, ``optraj map`` sweeps pool shots over the
-table and draws their heat maps (:mod:`optraj.cli_map`).
+``optraj demo`` runs the main job (:mod:`optraj.demo`): the Sawyer pool shot planned by every
+pool-shot planner (what each did and why), tracked by both controllers, struck in MuJoCo (where
+the ball went), the checker's verdicts on the other tasks, plots and plans written to
+``--out`` and the files to open next. ``optraj plan`` plans one problem with one planner and
+writes the trajectory as JSON, ``optraj check`` judges such a file again, ``optraj bench``
+runs the benchmarks of the source checkout into ``--out`` (a new temporary folder by default),
+``optraj robots [NAME ...]`` lists the robots or prints their joints and limits
+(:mod:`optraj.cli_robots`), ``optraj map`` sweeps pool shots over the table and draws their heat
+maps (:mod:`optraj.cli_map`). ``optraj --version`` prints the installed version.
 
-Errors print one line to stderr (``optraj: error: ...``) and exit with status 2; ``check``
-exits 1 when a trajectory fails. The packages are imported lazily so that ``optraj --help``
-is instant.
+Errors print one line to stderr (``optraj: error: ...``, led by the option at fault:
+:mod:`optraj.cli_errors`) and exit with status 2; ``check`` exits 1 when a trajectory fails.
+The packages are imported lazily so that ``optraj --help`` is instant.
 """
 
 from __future__ import annotations
@@ -470,7 +472,7 @@ def _strike_options(plan: argparse.ArgumentParser) -> None:
         nargs=3,
         metavar=("X", "Y", "Z"),
         help="ball centre in the base frame [m] (default: pool-shot (0.75, 0.15, -0.05), "
-        "paddle-strike the seed's (1.1, 0.8, 0.7))",
+        "paddle-strike the ECE486 paddle task's (1.1, 0.8, 0.7))",
     )
     strike.add_argument(
         "--heading",

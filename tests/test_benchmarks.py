@@ -3,7 +3,12 @@
 from __future__ import annotations
 
 import importlib.util
+import io
+import shutil
+import subprocess
 import sys
+import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
@@ -183,6 +188,63 @@ def test_run_all_runs_each_benchmark_draws_the_plots_and_rewrites_the_readme(tmp
     assert "| peers | 1 |" in text and "`python benchmarks/peers.py --quick`" in text
     assert "/outcome_paths.png)" in text and "/outcome_heading.png)" in text
     assert f"]({out.resolve()}/tracking.png)" in text  # outside the repository: absolute
+
+
+def _git_status() -> str:
+    done = subprocess.run(
+        ["git", "status", "--porcelain", "--untracked-files=all"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return done.stdout
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(
+    shutil.which("git") is None or not (ROOT / ".git").exists(), reason="not a git checkout"
+)
+def test_run_all_without_out_leaves_the_checkout_clean(tmp_path, monkeypatch):
+    # `optraj bench --quick` runs run_all.py with a new folder: the committed results and the
+    # README stay as they are. The whole quick run takes minutes, so the cheapest benchmark
+    # (time_optimal) stands in for all of them, and the plots (solves; drawn in the test above)
+    # are left out.
+    module = _load("run_all", monkeypatch)
+    cheapest = _load("time_optimal", monkeypatch)
+    monkeypatch.setattr(module, "BENCHMARKS", [("time_optimal", cheapest.main, [])])
+    monkeypatch.setattr(module, "draw_plots", lambda out: [])
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    before = _git_status()
+    assert module.main(["--quick"]) == 0
+    assert _git_status() == before
+    [folder] = tmp_path.iterdir()
+    assert folder.name.startswith("optraj-bench-")
+    assert "| ruckig |" in (folder / "time_optimal.md").read_text()
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_progress_is_drawn_on_a_terminal_only_with_the_whole_label(monkeypatch):
+    module = _load("benchmarking", monkeypatch)
+    piped = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", piped)
+    for done in range(4):
+        module.progress(done, 3, "planning")
+    assert piped.getvalue() == ""  # not even a carriage return
+    terminal = _Terminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    label = "shot 12: optimal control (min time) with noise"  # longer than 28 characters
+    module.progress(0, 2, label)
+    time.sleep(0.15)  # tqdm redraws at most every 0.1 s
+    module.progress(1, 2, label)
+    module.progress(2, 2, label)
+    text = terminal.getvalue()
+    assert label in text and "1/2" in text and "2/2" in text and text.endswith("\n")
+    assert "<" in text  # elapsed<left
 
 
 def test_run_all_refuses_a_readme_without_markers(tmp_path, monkeypatch):

@@ -342,7 +342,10 @@ def test_errors_exit_2_with_one_line(argv, expected, tmp_path, monkeypatch, caps
     [
         ('{"format": "optraj.trajectory/1", "breakpoints": [0, 1', "trajectory JSON is malformed"),
         ("[1, 2]", "'bad.json': not an optraj trajectory"),
-        ('{"format": "optraj.trajectory/1"}', "'bad.json': trajectory data is missing or has a malformed"),
+        (
+            '{"format": "optraj.trajectory/1"}',
+            "'bad.json': trajectory data is missing or has a malformed",
+        ),
         ("\udcff\udcfe not text", "cannot read 'bad.json'"),
     ],
 )

@@ -8,19 +8,7 @@ import sys
 from conftest import get_robot
 
 from optraj import planners, problems
-from optraj.demo import Progress, short_reason, write_plots
-from optraj.errors import InvalidInputError
-
-
-def test_short_reason_keeps_the_class_and_the_first_clause():
-    exc = InvalidInputError(
-        "the strike line needs joint 'j1' at 2.2 rad/s (velocity), limit 1.3 rad/s; more"
-    )
-    assert short_reason(exc) == (
-        "InvalidInputError: the strike line needs joint 'j1' at 2.2 rad/s, limit 1.3 rad/s"
-    )
-    long = short_reason(InvalidInputError("x" * 300), width=40)
-    assert len(long) == 40 and long.endswith("...")
+from optraj.demo import Progress, viewer_file, write_plots
 
 
 class _Terminal(io.StringIO):
@@ -29,17 +17,20 @@ class _Terminal(io.StringIO):
 
 
 def test_progress_shows_only_on_a_terminal():
-    quiet = io.StringIO()
-    progress = Progress(quiet)
+    piped = io.StringIO()
+    progress = Progress(3, piped)
     progress("planning")
+    progress("tracking")
     progress.done()
-    assert quiet.getvalue() == ""
+    assert piped.getvalue() == ""  # not even a carriage return
     terminal = _Terminal()
-    progress = Progress(terminal)
-    progress("planning")
-    assert "planning ..." in terminal.getvalue()
+    progress = Progress(3, terminal)
+    progress("planning the pool shot: optimal control (min time), a label longer than 28")
+    progress("tracking")
+    text = terminal.getvalue()
+    assert "a label longer than 28" in text  # not cut
+    assert "tracking" in text and "<" in text  # elapsed<remaining
     progress.done()
-    assert terminal.getvalue().endswith("\r\033[K")
 
 
 def test_plots_are_skipped_with_one_line_without_matplotlib(monkeypatch, tmp_path):
@@ -50,4 +41,9 @@ def test_plots_are_skipped_with_one_line_without_matplotlib(monkeypatch, tmp_pat
     assert write_plots(tmp_path, robot, {"ruckig": traj}, [], out) == []
     lines = out.getvalue().strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("plots skipped: matplotlib is not installed")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_the_viewer_hook_writes_nothing_yet(tmp_path):
+    assert viewer_file(tmp_path, None, None, None) is None
     assert list(tmp_path.iterdir()) == []
