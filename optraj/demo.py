@@ -47,7 +47,8 @@ class Progress:
         # disable=None: drawn only when the stream is a terminal (no carriage return in a pipe).
         self._bar: Any = tqdm(
             total=total, file=stream if stream is not None else sys.stderr, disable=None,
-            leave=False, dynamic_ncols=True, bar_format="{desc} {bar} {elapsed}<{remaining}",
+            leave=False, dynamic_ncols=True,
+            bar_format="{desc} {bar} {n_fmt}/{total_fmt} {elapsed}<{remaining}",
         )  # fmt: skip
         self._started = False
 

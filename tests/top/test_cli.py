@@ -80,6 +80,9 @@ def test_version_is_the_installed_one(capsys):
         main(["--version"])
     assert info.value.code == 0
     assert capsys.readouterr().out.strip() == f"optraj {version('optraj')}"
+    assert optraj.__version__ == version("optraj")  # one source: pyproject.toml
+    with pytest.raises(AttributeError, match="no attribute 'nope'"):
+        _ = optraj.nope
 
 
 def test_unknown_command_exits_with_usage_error():
