@@ -122,9 +122,7 @@ def from_csv(cls: type[Trajectory], path: str | Path) -> Trajectory:
 
 def _cell_error(where: str, row: int, column: int, name: str, detail: str) -> InvalidInputError:
     """The error for one cell of a CSV file (row and column counted from 1, as editors do)."""
-    return InvalidInputError(
-        f"{where} row {row}, column {column} ({name}): {detail}", name="path", value=detail
-    )
+    return InvalidInputError(f"{where} row {row}, column {column} ({name}): {detail}", name="path")
 
 
 def _layout(header: list[str], where: str) -> tuple[tuple[str, ...], int]:
