@@ -42,6 +42,7 @@ __all__ = [
 
 from optraj.cli_errors import error_line, option_flags
 from optraj.cli_map import add_map_parser
+from optraj.cli_output import add_output_options, output_file, write_output
 from optraj.cli_problems import PROBLEMS, build_problem, check_fit, joint_words
 from optraj.cli_robots import add_robots_parser
 
@@ -151,6 +152,7 @@ def _plan_options(args: argparse.Namespace) -> dict[str, Any]:
 
 def _cmd_plan(args: argparse.Namespace, out: TextIO) -> int:
     robot = args.robot.lower()
+    output = output_file(args)  # a bad --format or --rate before anything is planned
     check_fit(robot, args.problem)
     planner = make_planner(args.problem, args.planner)
     options = _plan_options(args)
@@ -167,8 +169,7 @@ def _cmd_plan(args: argparse.Namespace, out: TextIO) -> int:
     traj = planner.plan(problem)
     tag_trajectory(traj, robot, args.problem, options)
     report = planners.check(traj, problem)
-    path = Path(args.out)
-    traj.to_json(path)  # a typed error when the path cannot be written
+    written = write_output(traj, output, problem.robot)  # a typed error if it cannot
     if len(traj.phases) > 4:
         names = [p.name for p in traj.phases]
         phases = ", ".join([*names[:3], "...", names[-1]])
@@ -189,7 +190,7 @@ def _cmd_plan(args: argparse.Namespace, out: TextIO) -> int:
         f"{f' in {solve:.2f} s' if isinstance(solve, float) else ''}: a {traj.duration:.3f} s "
         f"motion in {len(traj.phases)} phase{'s' if len(traj.phases) != 1 else ''}"
         f"{f' ({phases})' if phases else ''}; "
-        f"{verdict}. Wrote {path}; check it again with: optraj check {path}"
+        f"{verdict}. {written}"
     )
     out.write(textwrap.fill(paragraph, width=100) + "\n")
     return 0
@@ -450,9 +451,7 @@ def _plan_parser(sub: Any) -> None:
         help="plan within this fraction of the velocity, acceleration and jerk limits, in "
         "(0, 1] (default 1)",
     )
-    plan.add_argument(
-        "--out", default="traj.json", metavar="PATH", help="output file (default traj.json)"
-    )
+    add_output_options(plan)
     plan.set_defaults(run=_cmd_plan)
 
 

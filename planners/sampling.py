@@ -3,8 +3,10 @@ r"""Sampling piecewise polynomials: times, rates and the joint states they give.
 :meth:`Trajectory.sample <optraj.planners.trajectory.Trajectory.sample>` and
 :meth:`~optraj.planners.trajectory.Trajectory.times` are built from these functions:
 :func:`times_within` checks the times asked for, :func:`evaluate` runs Horner's scheme on the
-segment each time falls in, :func:`sampling_rate` is the one rate rule of sampling and the
-checker, and :func:`time_grid` lays out evenly spaced times plus both sides of every breakpoint.
+segment each time falls in and :func:`hold_after_end` stills the state past the end;
+:func:`sampling_rate` is the one rate rule of sampling and the checker, :func:`time_grid` lays
+out evenly spaced times plus both sides of every breakpoint (for checking), and
+:func:`uniform_times` the fixed-rate times of the exports (CSV, ROS), breakpoints left out.
 """
 
 from __future__ import annotations
@@ -23,9 +25,11 @@ __all__ = [
     "TIME_TOLERANCE",
     "TrajectorySample",
     "evaluate",
+    "hold_after_end",
     "sampling_rate",
     "time_grid",
     "times_within",
+    "uniform_times",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -80,23 +84,48 @@ def sampling_rate(rate: float, duration: float, dof: int) -> float:
     return hz
 
 
-def times_within(t: ArrayLike, duration: float) -> FloatArray:
-    """One time or an array of times [s] as an array of shape (m,), clipped to [0, duration].
+def times_within(t: ArrayLike, duration: float, *, hold: bool = False) -> FloatArray:
+    """One time or an array of times [s] as an array of shape (m,), checked against the duration.
+
+    Times within :data:`TIME_TOLERANCE` of [0, duration] are clipped to it. With ``hold``,
+    times past the end are accepted and returned as they are (see :func:`hold_after_end`).
 
     Raises:
-        InvalidInputError: A time is not finite or lies outside [0, duration] by more than
-            :data:`TIME_TOLERANCE`.
+        InvalidInputError: A time is not finite, lies before 0 by more than
+            :data:`TIME_TOLERANCE`, or (without ``hold``) after the duration by more.
     """
     times = as_array(t, "t", ()) if ndim_of(t) == 0 else as_vector(t, "t")
     times = np.atleast_1d(times)
-    if times.size and (times.min() < -TIME_TOLERANCE or times.max() > duration + TIME_TOLERANCE):
-        bad = times[(times < -TIME_TOLERANCE) | (times > duration + TIME_TOLERANCE)][0]
+    early = times < -TIME_TOLERANCE
+    late = times > duration + TIME_TOLERANCE
+    outside = early if hold else early | late
+    if np.any(outside):
+        bad = float(times[outside][0])
+        advice = "; sample(t, hold=True) holds the final state past the end" if bad > 0 else ""
         raise InvalidInputError(
-            f"time {bad:.6g} s is outside the trajectory [0, {duration:.6g}] s",
+            f"time {bad:.6g} s is outside the trajectory [0, {duration:.6g}] s{advice}",
             name="t",
             value=bad,
         )
-    return np.clip(times, 0.0, duration)
+    return np.where(late, times, np.clip(times, 0.0, duration))
+
+
+def hold_after_end(values: list[FloatArray], past: NDArray[np.bool_]) -> list[FloatArray]:
+    """Joint states past the end of a trajectory held still: every derivative zeroed there.
+
+    Args:
+        values: Positions then their derivatives (velocity, acceleration, jerk), each of
+            shape (m, n), evaluated at the end time for the rows past the end.
+        past: Which of the m rows lie past the end, shape (m,).
+
+    Returns:
+        ``values``, the derivative rows past the end set to 0 in place: the final position
+        is held at rest, as a controller holds its last set point, even where the trajectory
+        ends in motion (its velocity then jumps to 0 at the end).
+    """
+    for derivative in values[1:]:
+        derivative[past] = 0.0
+    return values
 
 
 def evaluate(
@@ -143,4 +172,23 @@ def time_grid(duration: float, hz: float, breakpoints: FloatArray | None = None)
         inner = breakpoints[1:-1]
         before = np.maximum(inner - 1e-9 * max(duration, 1.0), 0.0)
         grid = np.unique(np.concatenate([grid, breakpoints, before]))
+    return grid
+
+
+def uniform_times(duration: float, hz: float) -> FloatArray:
+    """Times ``k / hz`` [s] for k = 0 .. floor(duration hz), and the end when it is off that grid.
+
+    The fixed-rate times of the exports: ``floor(duration hz) + 1`` of them, one more when
+    ``duration hz`` is not a whole number; no time is repeated and no breakpoint added. A grid
+    time within :data:`TIME_TOLERANCE` of the end is the end itself (round-off of ``k / hz``).
+
+    Args:
+        duration: End time [s], > 0.
+        hz: A rate already checked by :func:`sampling_rate`.
+    """
+    count = math.floor((duration + TIME_TOLERANCE) * hz)
+    grid = np.arange(count + 1, dtype=float) / hz
+    if count == 0 or duration - grid[-1] > TIME_TOLERANCE:
+        return np.append(grid, duration)
+    grid[-1] = duration
     return grid

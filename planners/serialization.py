@@ -1,14 +1,15 @@
-"""A trajectory to and from files: exact JSON, sampled CSV, ROS ``JointTrajectory`` dicts.
+"""A trajectory to and from exact JSON, and the file handling of every trajectory format.
 
 The :class:`~optraj.planners.trajectory.Trajectory` methods ``to_dict``, ``from_dict``,
-``to_json``, ``from_json``, ``to_csv`` and ``to_ros`` are the faces of these functions; call
-those. The JSON form (:data:`FORMAT`) keeps the polynomials exactly, so a trajectory read back
-samples to the same numbers; metadata values without a JSON form are left out.
+``to_json`` and ``from_json`` are the faces of these functions; call those. The JSON form
+(:data:`FORMAT`, its schema in :mod:`.trajectory_schema`) keeps the polynomials exactly, so a
+trajectory read back samples to the same numbers; metadata values without a JSON form are left
+out. :func:`as_path`, :func:`write_text` and :func:`read_text_file` are shared with the
+sampled formats (:mod:`.export_csv`, :mod:`.ros_message`).
 """
 
 from __future__ import annotations
 
-import csv
 import json
 import math
 import os
@@ -28,11 +29,16 @@ if TYPE_CHECKING:
 __all__ = [
     "FORMAT",
     "MAX_METADATA_DEPTH",
+    "MAX_SAMPLED_BYTES",
+    "as_path",
+    "from_dict",
+    "is_json_text",
     "read_json",
-    "ros_message",
+    "read_text_file",
+    "to_json",
     "trajectory_arguments",
     "trajectory_dict",
-    "write_csv",
+    "write_failure",
     "write_text",
 ]
 
@@ -41,6 +47,9 @@ FORMAT = "optraj.trajectory/1"
 #: Deepest nesting of lists and objects in a file's metadata: ours are two levels deep
 #: (``problem_options`` with a list), and the exports recurse through them.
 MAX_METADATA_DEPTH = 32
+#: Largest sampled trajectory file read (CSV, ROS YAML) [bytes]: 1e7 sampled values, the most
+#: any sampling holds (:data:`optraj.validation.MAX_COUNT`), take about 220 MB of CSV.
+MAX_SAMPLED_BYTES = 256 * 2**20
 
 
 def _jsonable(value: Any) -> Any:
@@ -84,16 +93,20 @@ def _nesting_depth(value: object) -> int:
     return deepest
 
 
-def _writable(path: object) -> Path:
-    """``path`` as a Path, or a typed error for something that is not a file path."""
+def as_path(path: object, name: str = "path") -> Path:
+    """``path`` as a Path, or a typed error for something that is not a file path.
+
+    Raises:
+        InvalidInputError: Not a str or a Path (the message names the argument ``name``).
+    """
     if not isinstance(path, (str, os.PathLike)):
         raise InvalidInputError(
-            f"path must be a str or a Path, got {short_repr(path)}", name="path"
+            f"{name} must be a str or a Path, got {short_repr(path)}", name=name
         )
     return Path(path)
 
 
-def _write_error(path: Path, exc: OSError) -> InvalidInputError:
+def write_failure(path: Path, exc: OSError) -> InvalidInputError:
     """A typed error for a file that cannot be written (a directory, no permission, ...)."""
     reason = exc.strerror or str(exc)
     return InvalidInputError(f"cannot write {str(path)!r}: {reason}", name="path", value=path)
@@ -106,15 +119,18 @@ def write_text(path: object, text: str) -> None:
         InvalidInputError: A path that is not a str or Path, or that cannot be written (a
             directory, a missing folder, no permission).
     """
-    target = _writable(path)
+    target = as_path(path)
     try:
         target.write_text(text)
     except OSError as exc:
-        raise _write_error(target, exc) from exc
+        raise write_failure(target, exc) from exc
 
 
 def trajectory_dict(trajectory: Trajectory) -> dict[str, Any]:
-    """The exact trajectory as plain JSON-ready data (metadata without non-JSON values)."""
+    """The exact trajectory as plain JSON-ready data (metadata without non-JSON values).
+
+    ``Trajectory.to_dict``; the data follows the schema of :mod:`.trajectory_schema`.
+    """
     metadata = {k: _jsonable(v) for k, v in trajectory.metadata.items()}
     return {
         "format": FORMAT,
@@ -178,8 +194,38 @@ def trajectory_arguments(data: Mapping[str, Any]) -> dict[str, Any]:
     }
 
 
-def _read_file(path: Path, max_bytes: int) -> str:
-    """The text of a trajectory file of at most ``max_bytes`` bytes."""
+def from_dict(cls: type[Trajectory], data: Mapping[str, Any]) -> Trajectory:
+    """Rebuild a trajectory from :func:`trajectory_dict` output (``Trajectory.from_dict``).
+
+    Raises:
+        InvalidInputError: Another format, or a missing or malformed field (each field is
+            checked as the constructor checks its argument).
+    """
+    return cls(**trajectory_arguments(data))
+
+
+def to_json(trajectory: Trajectory, path: str | Path | None = None) -> str:
+    """The exact trajectory as JSON text; also written to ``path`` when given.
+
+    ``Trajectory.to_json``.
+
+    Raises:
+        InvalidInputError: A path that is not a str or Path, or that cannot be written (a
+            directory, a missing folder, no permission).
+    """
+    text = json.dumps(trajectory_dict(trajectory), indent=1)
+    if path is not None:
+        write_text(path, text)
+    return text
+
+
+def read_text_file(path: Path, max_bytes: int) -> str:
+    """The text of a trajectory file of at most ``max_bytes`` bytes.
+
+    Raises:
+        InvalidInputError: No such file, one over ``max_bytes``, or one that cannot be read
+            or is not UTF-8 text; the message names the file.
+    """
     if not path.is_file():
         raise InvalidInputError(f"no trajectory file at {str(path)!r}", name="source")
     try:
@@ -194,6 +240,11 @@ def _read_file(path: Path, max_bytes: int) -> str:
     except (OSError, UnicodeDecodeError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) else "not UTF-8 text"
         raise InvalidInputError(f"cannot read {str(path)!r}: {reason}", name="source") from exc
+
+
+def is_json_text(source: object) -> bool:
+    """Whether ``source`` is JSON text (a str starting with ``{``) rather than a file path."""
+    return isinstance(source, str) and source.lstrip().startswith("{")
 
 
 def read_json(source: str | Path, max_bytes: int) -> Any:
@@ -213,10 +264,10 @@ def read_json(source: str | Path, max_bytes: int) -> Any:
         )
     text = str(source)
     where = ""  # the file, for the messages
-    if not text.lstrip().startswith("{"):
+    if not is_json_text(source):
         path = Path(source)
         where = f" in {str(path)!r}"
-        text = _read_file(path, max_bytes)
+        text = read_text_file(path, max_bytes)
     elif len(text) > max_bytes:
         raise InvalidInputError(
             f"trajectory JSON has {len(text)} characters, more than the {max_bytes} "
@@ -233,48 +284,3 @@ def read_json(source: str | Path, max_bytes: int) -> Any:
         raise InvalidInputError(
             f"trajectory JSON is malformed{where}: {exc}", name="source"
         ) from exc
-
-
-def write_csv(trajectory: Trajectory, path: object, rate: float) -> None:
-    """Write samples at ``rate`` [Hz] to ``path``: columns t, q_<joint>, qd_, qdd_, jerk_.
-
-    Raises:
-        InvalidInputError: A bad rate, or a path that is not a str or Path or cannot be
-            written.
-    """
-    target = _writable(path)
-    arrays = trajectory.to_arrays(rate)
-    header = ["t"] + [
-        f"{prefix}_{name}"
-        for prefix in ("q", "qd", "qdd", "jerk")
-        for name in trajectory.joint_names
-    ]
-    table = np.column_stack([arrays[key] for key in ("t", "q", "qd", "qdd", "jerk")])
-    try:
-        with target.open("w", newline="") as handle:
-            writer = csv.writer(handle)
-            writer.writerow(header)
-            writer.writerows(table.tolist())
-    except OSError as exc:
-        raise _write_error(target, exc) from exc
-
-
-def ros_message(trajectory: Trajectory, rate: float | None) -> dict[str, Any]:
-    """A dict shaped like ROS ``trajectory_msgs/JointTrajectory``: see ``Trajectory.to_ros``."""
-    if rate is None:
-        times = trajectory.breakpoints
-    else:
-        times = trajectory.times(rate, include_breakpoints=False)
-    sample = trajectory.sample(times)
-    points = []
-    for k, t in enumerate(np.atleast_1d(sample.t)):
-        sec, nanosec = divmod(round(float(t) * 1e9), 1_000_000_000)
-        points.append(
-            {
-                "positions": sample.q[k].tolist(),
-                "velocities": sample.qd[k].tolist(),
-                "accelerations": sample.qdd[k].tolist(),
-                "time_from_start": {"sec": sec, "nanosec": nanosec},
-            }
-        )
-    return {"joint_names": list(trajectory.joint_names), "points": points}

@@ -10,14 +10,15 @@ checker reports it), so that a planner's real output is never smoothed over.
 
 The class is the face; the work is done in modules of their own: :mod:`.phase` (``Phase``),
 :mod:`.piecewise` (checks, derivatives, Hermite interpolation, joining), :mod:`.sampling`
-(``TrajectorySample``, times and rates), :mod:`.description` (joint names, phases, metadata)
-and :mod:`.serialization` (JSON, CSV, ROS). Their public names used with trajectories are
-importable from here too.
+(``TrajectorySample``, times and rates), :mod:`.description` (joint names, phases, metadata),
+:mod:`.serialization` (exact JSON; its schema in :mod:`.trajectory_schema`), :mod:`.export_csv`
+(fixed-rate CSV) and :mod:`.ros_message` (ROS 2 ``JointTrajectory``). Their public names used
+with trajectories are importable from here too.
 """
 
 from __future__ import annotations
 
-import json
+import importlib
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, cast
@@ -26,7 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
-from optraj.planners import serialization
+from optraj.planners import export_csv, ros_message, serialization
 from optraj.planners.description import (
     as_joint_names,
     as_metadata,
@@ -48,6 +49,7 @@ from optraj.planners.sampling import (
     TIME_TOLERANCE,
     TrajectorySample,
     evaluate,
+    hold_after_end,
     sampling_rate,
     time_grid,
     times_within,
@@ -280,7 +282,7 @@ class Trajectory:
 
     # ------------------------------------------------------------------------ sampling
 
-    def sample(self, t: ArrayLike) -> TrajectorySample:
+    def sample(self, t: ArrayLike, *, hold: bool = False) -> TrajectorySample:
         """Joint positions, velocities, accelerations and jerks at the given times.
 
         At a breakpoint the segment that starts there is used (values are right-continuous),
@@ -288,16 +290,23 @@ class Trajectory:
 
         Args:
             t: One time or an array of times [s], within [0, duration].
+            hold: Accept times past the end and hold the final state there, as the Robotics
+                Toolbox and MoveIt do: the final position with zero velocity, acceleration
+                and jerk (also when the trajectory ends in motion, as a strike's follow-through
+                may: its velocity then drops to 0 after the end, a controller holding its last
+                set point). At the end itself the trajectory's own values are kept.
 
         Returns:
             The sample; arrays of shape (m, n) for m times, (n,) for one time.
 
         Raises:
-            InvalidInputError: A time is not finite or lies outside [0, duration].
+            InvalidInputError: A time is not finite, lies before 0, or (without ``hold``) lies
+                after the duration; the message names the time and the duration.
         """
         scalar = ndim_of(t) == 0
-        times = times_within(t, self.duration)
-        values = evaluate(self._knots, self._coeffs, times)
+        times = times_within(t, self.duration, hold=as_flag(hold, "hold"))
+        values = evaluate(self._knots, self._coeffs, np.minimum(times, self.duration))
+        values = hold_after_end(values, times > self.duration)
         if scalar:
             return TrajectorySample(float(times[0]), *(v[0] for v in values))
         return TrajectorySample(times, *values)
@@ -425,31 +434,10 @@ class Trajectory:
             "jerk": sample.jerk,
         }
 
-    def to_dict(self) -> dict[str, Any]:
-        """The exact trajectory as plain JSON-ready data (metadata without non-JSON values)."""
-        return serialization.trajectory_dict(self)
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> Trajectory:
-        """Rebuild a trajectory from :meth:`to_dict` output.
-
-        Raises:
-            InvalidInputError: Another format, or a missing or malformed field (each field
-                is checked as the constructor checks its argument).
-        """
-        return cls(**serialization.trajectory_arguments(data))
-
-    def to_json(self, path: str | Path | None = None) -> str:
-        """The exact trajectory as JSON text; also written to ``path`` when given.
-
-        Raises:
-            InvalidInputError: A path that is not a str or Path, or that cannot be written
-                (a directory, a missing folder, no permission).
-        """
-        text = json.dumps(self.to_dict(), indent=1)
-        if path is not None:
-            serialization.write_text(path, text)
-        return text
+    # The exact JSON form, each a function of serialization taking the trajectory first.
+    to_dict = serialization.trajectory_dict
+    from_dict = classmethod(serialization.from_dict)
+    to_json = serialization.to_json
 
     @classmethod
     def from_json(cls, source: str | Path) -> Trajectory:
@@ -458,30 +446,38 @@ class Trajectory:
         Raises:
             InvalidInputError: No such file, one that cannot be read, text over
                 MAX_JSON_BYTES, not valid JSON (nested too deeply, a number too long) or not
-                an optraj trajectory.
+                an optraj trajectory; an error in a file names it.
         """
-        return cls.from_dict(serialization.read_json(source, MAX_JSON_BYTES))
+        data = serialization.read_json(source, MAX_JSON_BYTES)
+        try:
+            return cls.from_dict(data)
+        except InvalidInputError as exc:
+            if serialization.is_json_text(source):
+                raise
+            named = f"{str(source)!r}: {exc}"
+            raise InvalidInputError(named, name=exc.name, value=exc.value) from exc
 
-    def to_csv(self, path: str | Path, rate: float = 1000.0) -> None:
-        """Write samples at ``rate`` [Hz]: columns t, q_<joint>, qd_<joint>, qdd_, jerk_.
+    # The sampled formats, functions of their modules taking the trajectory first.
+    to_csv = export_csv.to_csv
+    from_csv = classmethod(export_csv.from_csv)
+    to_ros = ros_message.to_ros
+    to_ros_yaml = ros_message.to_ros_yaml
+    from_ros = classmethod(ros_message.from_ros)
 
-        Raises:
-            InvalidInputError: A bad rate (see :meth:`times`), or a path that is not a str
-                or Path or cannot be written.
-        """
-        serialization.write_csv(self, path, rate)
+    def plot(self, **kwargs: Any) -> Any:
+        """Plot this trajectory: ``planners.plot.plot_trajectory(self, **kwargs)``.
 
-    def to_ros(self, rate: float | None = None) -> dict[str, Any]:
-        """A dict shaped like ROS ``trajectory_msgs/JointTrajectory`` (no ROS needed).
+        matplotlib is imported on this first call only, so that the trajectory type stays
+        headless.
 
         Args:
-            rate: Point rate [Hz]; the breakpoints only when ``None``.
+            **kwargs: Passed on to :func:`optraj.planners.plot.plot_trajectory`.
 
         Returns:
-            ``{"joint_names": [...], "points": [{"positions", "velocities", "accelerations",
-            "time_from_start": {"sec", "nanosec"}}, ...]}``.
+            What ``plot_trajectory`` returns (its matplotlib figure).
         """
-        return serialization.ros_message(self, rate)
+        plotting = importlib.import_module("optraj.planners.plot")
+        return plotting.plot_trajectory(self, **kwargs)
 
 
 def _check_groups(phases: object) -> None:

@@ -1,4 +1,5 @@
-"""Tests of planners.sampling: evaluation at breakpoints and between, time grids, rates."""
+"""Tests of planners.sampling: evaluation at breakpoints and between, holding past the end,
+time grids, rates."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ import numpy as np
 import pytest
 
 from optraj.errors import InvalidInputError
+from optraj.planners.sampling import TIME_TOLERANCE, uniform_times
 from optraj.planners.trajectory import Trajectory
 
 
@@ -29,11 +31,52 @@ def test_breakpoints_are_right_continuous_and_jumps_are_kept():
 
 def test_sampling_outside_the_duration_is_an_error():
     traj = Trajectory.constant([0.0, 1.0], 2.0)
-    with pytest.raises(InvalidInputError, match=r"time 2.5 s is outside the trajectory \[0, 2\] s"):
+    with pytest.raises(
+        InvalidInputError,
+        match=r"^time 2.5 s is outside the trajectory \[0, 2\] s; sample\(t, hold=True\) holds",
+    ):
         traj.sample([0.0, 2.5])
+    with pytest.raises(
+        InvalidInputError, match=r"^time -0.5 s is outside the trajectory \[0, 2\] s$"
+    ):
+        traj.sample(-0.5, hold=True)  # before the start there is nothing to hold
     with pytest.raises(InvalidInputError, match="finite"):
         traj.sample(np.nan)
     traj.sample(2.0 + 1e-12)  # round-off at the end is accepted
+
+
+def test_holding_past_the_end_keeps_the_final_position_at_rest():
+    # q(t) = t^2 on [0, 1]: it ends moving, at 2 rad/s.
+    traj = Trajectory([0.0, 1.0], [[[0.0], [0.0], [1.0]]])
+    sample = traj.sample([0.5, 1.0, 1.5, 30.0], hold=True)
+    np.testing.assert_array_equal(sample.t, [0.5, 1.0, 1.5, 30.0])
+    np.testing.assert_array_equal(sample.q[:, 0], [0.25, 1.0, 1.0, 1.0])
+    np.testing.assert_array_equal(sample.qd[:, 0], [1.0, 2.0, 0.0, 0.0])  # its own value at T
+    np.testing.assert_array_equal(sample.qdd[:, 0], [2.0, 2.0, 0.0, 0.0])
+    np.testing.assert_array_equal(sample.jerk[:, 0], 0.0)
+    one = traj.sample(3.0, hold=True)
+    assert one.t == 3.0 and one.q.tolist() == [1.0] and one.qd.tolist() == [0.0]
+    # Round-off past the end is the end, with or without hold.
+    end = traj.sample(1.0 + 0.5 * TIME_TOLERANCE, hold=True)
+    assert end.t == 1.0 and end.qd.tolist() == [2.0]
+    with pytest.raises(InvalidInputError, match="hold must be"):
+        traj.sample(2.0, hold="yes")
+
+
+@pytest.mark.parametrize(
+    ("duration", "rate", "expected"),
+    [
+        (1.0, 4.0, [0.0, 0.25, 0.5, 0.75, 1.0]),
+        (1.1, 4.0, [0.0, 0.25, 0.5, 0.75, 1.0, 1.1]),
+        (0.1 * 3, 10.0, [0.0, 0.1, 0.2, 0.1 * 3]),  # 3 * 0.1 is 0.30000000000000004
+        (0.3 + 2 * TIME_TOLERANCE, 10.0, [0.0, 0.1, 0.2, 0.3, 0.3 + 2 * TIME_TOLERANCE]),
+        (0.05, 4.0, [0.0, 0.05]),
+        (1e-12, 1.0, [0.0, 1e-12]),
+    ],
+)
+def test_uniform_times_are_k_over_rate_and_the_end_once(duration, rate, expected):
+    times = uniform_times(duration, rate)
+    np.testing.assert_array_equal(times, expected)
 
 
 def test_to_arrays_includes_both_sides_of_breakpoints():

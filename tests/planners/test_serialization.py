@@ -1,4 +1,4 @@
-"""Tests of planners.serialization: JSON round trips, CSV and ROS exports, bad files."""
+"""Tests of planners.serialization: JSON round trips, bad files and their messages."""
 
 from __future__ import annotations
 
@@ -47,32 +47,27 @@ def test_bad_json_is_a_typed_error(source, match):
         Trajectory.from_json(source)
 
 
-def test_csv_and_ros_exports(tmp_path):
-    traj = Trajectory([0.0, 1.5], [[[0.0, 1.0], [1.0, 0.0]]], joint_names=("a", "b"))
-    path = tmp_path / "traj.csv"
-    traj.to_csv(path, rate=10.0)
-    lines = path.read_text().splitlines()
-    assert lines[0] == "t,q_a,q_b,qd_a,qd_b,qdd_a,qdd_b,jerk_a,jerk_b"
-    assert len(lines) == 1 + 16  # 0 .. 1.5 s at 10 Hz
-    assert [float(v) for v in lines[-1].split(",")[:3]] == [1.5, 1.5, 1.0]
-    ros = traj.to_ros(rate=2.0)
-    assert ros["joint_names"] == ["a", "b"]
-    assert [p["time_from_start"] for p in ros["points"]][-1] == {"sec": 1, "nanosec": 500_000_000}
-    assert ros["points"][1]["positions"] == [0.5, 1.0]
-    assert ros["points"][1]["velocities"] == [1.0, 0.0]
-    json.dumps(ros)  # plain data
+def test_a_file_that_is_no_trajectory_is_named_in_the_error(tmp_path):
+    path = tmp_path / "other.json"
+    path.write_text('{"format": "other"}')
+    with pytest.raises(InvalidInputError, match=rf"^'{path}': not an optraj trajectory"):
+        Trajectory.from_json(path)
+    path.write_text('{"format": "optraj.trajectory/1", "breakpoints": [0, 1]}')
+    with pytest.raises(InvalidInputError, match=rf"^'{path}': .*no coefficients, phases"):
+        Trajectory.from_json(str(path))
+    # JSON text has no file to name.
+    with pytest.raises(InvalidInputError, match=r"^not an optraj trajectory"):
+        Trajectory.from_json('{"format": "other"}')
 
 
 def test_writing_to_a_path_that_cannot_be_written_is_a_typed_error(tmp_path):
     traj = Trajectory.constant([0.0], 1.0)
     with pytest.raises(InvalidInputError, match=r"cannot write .*: Is a directory"):
-        traj.to_csv(tmp_path, rate=10.0)
-    with pytest.raises(InvalidInputError, match=r"cannot write .*: Is a directory"):
         traj.to_json(tmp_path)
     with pytest.raises(InvalidInputError, match=r"cannot write .*no_such_folder"):
         traj.to_json(tmp_path / "no_such_folder" / "t.json")
-    with pytest.raises(InvalidInputError, match="path must be a str or a Path"):
-        traj.to_csv(3)
+    with pytest.raises(InvalidInputError, match="path must be a str or a Path, got int 3"):
+        traj.to_json(3)
 
 
 def _good_dict() -> dict:
