@@ -53,7 +53,7 @@ def test_the_schema_is_draft_2020_12_and_ships_with_the_package():
     shipped = resources.files("optraj.planners").joinpath(SCHEMA_FILE)
     assert json.loads(shipped.read_text()) == schema
     data = tomllib.loads((ROOT / "pyproject.toml").read_text())
-    assert "schema/*.json" in data["tool"]["setuptools"]["package-data"]["optraj.planners"]
+    assert "*.json" in data["tool"]["setuptools"]["package-data"]["optraj.planners.schema"]
     load_schema()["title"] = "changed"
     assert load_schema() == schema  # each call is a new copy
 

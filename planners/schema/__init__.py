@@ -1,0 +1,3 @@
+"""The JSON schemas of optraj's file formats (data only; :mod:`..trajectory_schema` reads them)."""
+
+__all__: list[str] = []
