@@ -202,7 +202,9 @@ def plot_tool_speed(
     shade_strikes(ax, plans, styles)
     ax.set_xlabel("time [s]")
     ax.set_ylabel(f"tool speed [m/s] (frame {robot.tool_frame})")
-    ax.set_title("Tool speed; bands and top bars: each plan's strike phase", fontsize="medium")
+    ax.set_title(
+        "Tool speed; bands and bars at the bottom: each plan's strike phase", fontsize="medium"
+    )
     ax.grid(alpha=0.25)
     handles, labels = ax.get_legend_handles_labels()
     legend_below(figure, handles, labels)

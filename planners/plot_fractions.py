@@ -140,7 +140,9 @@ def plot_limit_fractions(
             for joint, times in sorted(unbounded.get(quantity, {}).items()):
                 note = None if noted else UNBOUNDED_LABEL
                 noted |= bool(
-                    mark_unbounded(ax, times, line_style(joint), limits.names[joint], note=note)
+                    mark_unbounded(
+                        ax, times, line_style(joint), limits.names[joint], note=note, beside=False
+                    )
                 )
             ax.axhline(
                 1.0, color="k", linestyle="--", linewidth=1.0, gid="limit", label="limit (1.0)"
@@ -148,12 +150,11 @@ def plot_limit_fractions(
             ax.grid(alpha=0.25)
             if column == 0:
                 ax.set_ylabel(_AXIS[quantity])
-        axes[0, column].set_title(
-            f"{label}: every joint as a fraction of its limit", fontsize="medium"
-        )
+        axes[0, column].set_title(label, fontsize="medium", pad=16)
         axes[-1, column].set_xlabel("time [s]")
     for row in range(rows):
         axes[row, 0].set_ylim(bottom=0.0, top=max(1.1, axes[row, 0].get_ylim()[1]))
+    figure.suptitle("Every joint as a fraction of its limit (dashed: the limit)")
     legend_below(figure, *legend_entries(axes.flat))
     return figure
 

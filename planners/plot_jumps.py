@@ -106,13 +106,15 @@ def mark_unbounded(
     *,
     row: int = 0,
     note: str | None = UNBOUNDED_LABEL,
+    beside: bool = True,
 ) -> list[Any]:
     """Mark instants [s] where a quantity is unbounded on ``ax``; returns the artists.
 
     Each instant gets a triangle on the panel's top edge (above the data range, so it is
     never read as a value) and a thin vertical line across the panel, in the curve's colour.
     Several curves' markers go in rows (``row`` 0 on the edge, then upwards), each row
-    labelled by ``note`` in the right margin.
+    labelled by ``note`` in the right margin (``beside``) or above the panel's right end
+    (for panels side by side, whose margins are narrow).
 
     Args:
         ax: Matplotlib axes.
@@ -120,7 +122,8 @@ def mark_unbounded(
         style: The curve's style (its colour is used).
         who: The curve's label; the marker artist is labelled ``"<who>: unbounded (jump)"``.
         row: The row of markers, 0 on the top edge.
-        note: The row's label in the right margin; none when None.
+        note: The row's label; none when None.
+        beside: Write the note in the right margin, else above the panel's right end.
     """
     instants = sorted(set(float(t) for t in times))
     if not instants:
@@ -155,7 +158,7 @@ def mark_unbounded(
                 label=f"_{who} jump",
             )
         )
-    if note is not None:
+    if note is not None and beside:
         artists.append(
             ax.text(
                 1.01,
@@ -166,6 +169,21 @@ def mark_unbounded(
                 va="center",
                 fontsize="x-small",
                 color=style.color,
+                fontweight="bold",
+            )
+        )
+    elif note is not None:
+        artists.append(
+            ax.annotate(
+                note,
+                (1.0, height),
+                xycoords="axes fraction",
+                xytext=(0, 5),
+                textcoords="offset points",
+                ha="right",
+                va="bottom",
+                fontsize="x-small",
+                color="0.2",
                 fontweight="bold",
             )
         )

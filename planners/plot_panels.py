@@ -10,7 +10,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from optraj.errors import InvalidInputError
-from optraj.planners.plot_style import LineStyle, shade_phase
+from optraj.planners.plot_style import BAR_HEIGHT, LineStyle, shade_phase
 from optraj.planners.trajectory import Trajectory, TrajectorySample
 from optraj.validation import as_choice
 
@@ -96,10 +96,18 @@ def samples_of(plans: Mapping[str, Trajectory], rate: float) -> dict[str, Trajec
 def shade_strikes(
     ax: Any, plans: Mapping[str, Trajectory], styles: Mapping[str, LineStyle]
 ) -> None:
-    """Each plan's strike phase as a band and a top bar in the plan's colour."""
+    """Each plan's strike phase as a band and a bar in the plan's colour.
+
+    The bars go in rows along the bottom, one per plan with a strike; the y-range is
+    stretched downwards so that they lie under the data, never on it. Call after drawing.
+    """
     row = 0
     for label, trajectory in plans.items():
         windows = [p for p in trajectory.phases if p.name == STRIKE_PHASE]
         for phase in windows:
             shade_phase(ax, phase.t_start, phase.t_end, styles[label], row)
         row += bool(windows)
+    if row:
+        low, high = ax.get_ylim()
+        share = BAR_HEIGHT * row + 0.01  # of the stretched range, under the old bottom
+        ax.set_ylim(low - share * (high - low) / (1.0 - share), high)

@@ -19,6 +19,7 @@ from typing import Any
 from optraj.errors import InvalidInputError, MissingDependencyError
 
 __all__ = [
+    "BAR_HEIGHT",
     "COLOURS",
     "DASHES",
     "MARKERS",
@@ -62,6 +63,12 @@ THINNEST = 1.0
 #: as fractions of the axes' diagonal (matplotlib ``markevery`` with floats).
 MARKER_SPACING = 0.12
 MARKER_SHIFT = 0.023
+#: Height of a phase bar (:func:`shade_phase`), as a fraction of the panel's height.
+BAR_HEIGHT = 0.035
+#: Characters of a legend label (small font) per inch of figure width, and the width of a
+#: legend entry's handle and gaps, in characters.
+LEGEND_CHARACTERS_PER_INCH = 12.0
+LEGEND_HANDLE_CHARACTERS = 7
 #: Markers on a curve whose number of points is known (:meth:`LineStyle.kwargs`).
 MARKERS_PER_CURVE = 9
 
@@ -156,7 +163,10 @@ def legend_below(figure: Any, handles: Sequence[Any], labels: Sequence[str]) -> 
             seen.setdefault(label, handle)
     if not seen:
         return None
-    columns = min(len(seen), 4)
+    # as many columns as the longest label lets fit across the figure, at most 4
+    widest = max(len(label) for label in seen) + LEGEND_HANDLE_CHARACTERS
+    fit = int(figure.get_figwidth() * LEGEND_CHARACTERS_PER_INCH / widest)
+    columns = max(1, min(len(seen), 4, fit))
     return figure.legend(
         list(seen.values()),
         list(seen.keys()),

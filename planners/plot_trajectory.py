@@ -95,7 +95,9 @@ def plot_trajectory(
             instants = unbounded.get(quantity, {}).get(joint, [])
             note = None if noted else UNBOUNDED_LABEL
             noted |= bool(
-                mark_unbounded(panel, instants, style, trajectory.joint_names[joint], note=note)
+                mark_unbounded(
+                    panel, instants, style, trajectory.joint_names[joint], note=note, beside=False
+                )
             )
         unit = _GENERIC_UNIT[quantity] if limits is None else limits.unit(quantity, 0)
         if limits is not None and len(set(limits.kinds)) > 1:
