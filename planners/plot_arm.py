@@ -26,10 +26,10 @@ FloatArray = NDArray[np.float64]
 #: line, and far fewer already fill a view.
 MAX_FIGURES = 1000
 #: Opacity of the earliest and of the last pose: earlier poses fade so that the last reads.
-FIRST_ALPHA = 0.18
+FIRST_ALPHA = 0.3
 LAST_ALPHA = 1.0
 #: Colour of the arm's poses, light (early) to dark (last).
-ARM_COLOURS = ("#9ecae1", "#08306b")
+ARM_COLOURS = ("#6baed6", "#08306b")
 
 
 def joint_origins(robot: Robot, q: FloatArray) -> FloatArray:
@@ -95,7 +95,7 @@ def plot_robot(
     view = view_box(points, floor_height(problem, points))
     draw_scene(ax, problem, view)
     _poses(ax, poses, instants)
-    ax.plot(*path.T, color="#d62728", linewidth=1.5, label="tool path")
+    ax.plot(*path.T, color="#d62728", linewidth=1.5, label="tool path", zorder=2.5)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_zlabel("z [m]")
@@ -135,4 +135,5 @@ def _poses(ax: Any, poses: list[FloatArray], instants: FloatArray) -> None:
             linewidth=1.5 + 1.5 * share,
             label=label,
             gid="arm",
+            zorder=2.0,
         )

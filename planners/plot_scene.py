@@ -39,6 +39,12 @@ BALL_FROM_NEAR_END = 0.35
 HEADING_ARROW = 0.25
 #: Smallest half-size of a view [m].
 MIN_HALF = 0.1
+#: Drawing order (matplotlib zorder; the 3-D axes must not compute their own, as they sort
+#: by mean depth and a large floor polygon would then cover the ball): the floor first, the
+#: blocks and the ball over it, the task's lines on top. The arm goes between (2).
+Z_FLOOR = 0.0
+Z_SOLID = 3.0
+Z_LINES = 5.0
 
 
 @dataclass(frozen=True)
@@ -98,7 +104,8 @@ def view_box(points: FloatArray, floor: float) -> ViewBox:
 def draw_scene(ax: Any, problem: object, view: ViewBox) -> None:
     """Draw what the problem's task is about on 3-D axes, clipped to ``view``.
 
-    A pool shot: the table's cloth (the part inside the view), the ball, the strike line from
+    A pool shot: the table's cloth (the part inside the view), the ball (a marker, not to
+    scale), the strike line from
     its entry to its exit point and an arrow along the shot's heading. A pick-and-place: each
     block where it is picked (solid) and where it goes on the pile (outline). Anything else:
     a grey floor.
@@ -131,18 +138,20 @@ def _pool(ax: Any, problem: PoolStrike, view: ViewBox) -> None:
     high = np.minimum(table[1], view.high[:2])
     if np.all(high > low):
         _rectangle(ax, low, high, float(ball[2]) - radius, "#1c7a45", 0.45, "table cloth")
-    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 18), np.linspace(0, np.pi, 10))
-    ax.plot_surface(
-        ball[0] + radius * np.cos(u) * np.sin(v),
-        ball[1] + radius * np.sin(u) * np.sin(v),
-        ball[2] + radius * np.cos(v),
-        color="ivory",
-        edgecolor="0.4",
-        linewidth=0.2,
-        shade=True,
+    ax.scatter(
+        *ball[:, None],
+        s=90,
+        facecolor="white",
+        edgecolor="black",
+        linewidth=1.0,
+        depthshade=False,
+        zorder=Z_SOLID,
+        label=f"ball (r = {1e3 * radius:.1f} mm)",
     )
     line = np.array([problem.entry_point, problem.exit_point])
-    ax.plot(*line.T, color="black", linestyle="--", linewidth=1.6, label="strike line")
+    ax.plot(
+        *line.T, color="black", linestyle="--", linewidth=1.6, label="strike line", zorder=Z_LINES
+    )
     ax.plot(
         *np.asarray(problem.contact_point)[:, None],
         marker="x",
@@ -150,6 +159,7 @@ def _pool(ax: Any, problem: PoolStrike, view: ViewBox) -> None:
         markersize=7,
         linestyle="none",
         label="contact point",
+        zorder=Z_LINES,
     )
     ax.quiver(
         *ball,
@@ -158,6 +168,7 @@ def _pool(ax: Any, problem: PoolStrike, view: ViewBox) -> None:
         linewidth=1.5,
         arrow_length_ratio=0.2,
         label="ball heading",
+        zorder=Z_LINES,
     )
 
 
@@ -185,7 +196,9 @@ def _rectangle(
         (high[0], high[1], z),
         (low[0], high[1], z),
     ]
-    patch = _art3d().Poly3DCollection([corners], facecolor=colour, alpha=alpha, edgecolor="none")
+    patch = _art3d().Poly3DCollection(
+        [corners], facecolor=colour, alpha=alpha, edgecolor="none", zorder=Z_FLOOR
+    )
     if label is not None:
         patch.set_label(label)
     ax.add_collection3d(patch)
@@ -199,11 +212,21 @@ def _block(ax: Any, centre: FloatArray, side: float, *, solid: bool, label: str 
     polygons = [corners[face] for face in faces]
     if solid:
         cube = _art3d().Poly3DCollection(
-            polygons, facecolor="#e8a33d", edgecolor="#7a4a0c", alpha=0.9, linewidth=0.6
+            polygons,
+            facecolor="#e8a33d",
+            edgecolor="#7a4a0c",
+            alpha=0.9,
+            linewidth=0.6,
+            zorder=Z_SOLID,
         )
     else:
         cube = _art3d().Poly3DCollection(
-            polygons, facecolor="none", edgecolor="#7a4a0c", linestyle="--", linewidth=0.9
+            polygons,
+            facecolor="none",
+            edgecolor="#7a4a0c",
+            linestyle="--",
+            linewidth=0.9,
+            zorder=Z_SOLID,
         )
     if label is not None:
         cube.set_label(label)
