@@ -109,5 +109,7 @@ def shade_strikes(
         row += bool(windows)
     if row:
         low, high = ax.get_ylim()
+        ticks = [tick for tick in ax.get_yticks() if low <= tick <= high]
         share = BAR_HEIGHT * row + 0.01  # of the stretched range, under the old bottom
         ax.set_ylim(low - share * (high - low) / (1.0 - share), high)
+        ax.set_yticks(ticks)  # none in the bars' room: no value is drawn there
