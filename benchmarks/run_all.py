@@ -81,11 +81,20 @@ def run_benchmarks(out: Path, quick: bool) -> None:
 
 
 def draw_plots(out: Path) -> list[Path]:
-    """Draw the PNG plots of the pool shot into ``out``; returns the files written."""
+    """Draw the PNG plots of the pool shot into ``out``; returns the files written.
+
+    Besides the three plots above, ``limit_fractions.png``: every joint of three strikes
+    (pull back + line, Ruckig, minimum-time optimal control) as a fraction of its limits.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
-    from optraj.planners.plot import plot_profiles, plot_tool_speed, pyplot
+    from optraj.planners.plot import (
+        plot_limit_fractions,
+        plot_profiles,
+        plot_tool_speed,
+        pyplot,
+    )
 
     plt = pyplot()
     shot = problems.sawyer_pool_shot(speed=1.0)
@@ -111,10 +120,17 @@ def draw_plots(out: Path) -> list[Path]:
         controllers.simulate(robot, fastest, make(robot))
         for make in (controllers.PseudoInversePID, controllers.DiffIKQP)
     ]
+    compared = ("seed (pull back + line)", "ruckig strike", "optimal control (min time)")
     figures = {
         "profiles.png": plot_profiles(joint_plans, robot.limits),
         "strike_speed.png": plot_tool_speed(robot, strikes),
         "tracking.png": controllers.plot_tracking(runs, robot.limits),
+        "limit_fractions.png": plot_limit_fractions(
+            {label: strikes[label] for label in compared if label in strikes},
+            robot.limits,
+            robot=robot,
+            rate=500.0,
+        ),
     }
     written = []
     for name, figure in figures.items():

@@ -19,12 +19,15 @@ from numpy.typing import NDArray
 from optraj.errors import InvalidInputError
 from optraj.physics.outcome import HEADING_TOLERANCE, Outcome
 from optraj.physics.scene import BALL_FROM_NEAR_END, TABLE_SIZE
-from optraj.planners.plot import pyplot
+from optraj.planners.plot_style import legend_below, line_styles, pyplot
+from optraj.validation import as_choice
 
-__all__ = ["plot_ball_paths", "plot_heading_errors"]
+__all__ = ["LEGEND_PLACEMENTS", "plot_ball_paths", "plot_heading_errors"]
 
 FloatArray = NDArray[np.float64]
 
+#: Where :func:`plot_heading_errors` puts its legend.
+LEGEND_PLACEMENTS = ("outside", "inside", "none")
 #: The magnified view ends where a ball comes this close to a cushion [m] (a ball's radius
 #: and some room): after a rebound, the distance off the line means nothing.
 CUSHION_MARGIN = 0.04
@@ -120,6 +123,7 @@ def plot_ball_paths(outcomes: Mapping[str, Sequence[Outcome]]) -> Any:
                     name="outcomes",
                 )
     plt = pyplot()
+    styles = line_styles(groups)
     columns = len(groups)
     figure, axes = plt.subplots(
         2,
@@ -150,7 +154,7 @@ def plot_ball_paths(outcomes: Mapping[str, Sequence[Outcome]]) -> Any:
             top.plot(flat[:, 0], flat[:, 1], color="white", lw=0.8, alpha=0.8, zorder=3)
             free = _before_cushion(flat)
             along, across = _along_across(o, points[:free])
-            side.plot(along, across * 1e3, lw=0.8, alpha=0.7)
+            side.plot(along, across * 1e3, lw=0.8, alpha=0.7, color=styles[label].color)
         top.set_xlim(-0.1, length + 0.1)
         top.set_ylim(-0.1, width + 0.1)
         top.set_aspect("equal")
@@ -169,27 +173,40 @@ def plot_ball_paths(outcomes: Mapping[str, Sequence[Outcome]]) -> Any:
 
 
 def plot_heading_errors(
-    outcomes: Mapping[str, Sequence[Outcome]], *, ax: Any = None, title: str | None = None
+    outcomes: Mapping[str, Sequence[Outcome]],
+    *,
+    ax: Any = None,
+    title: str | None = None,
+    legend: str = "outside",
 ) -> Any:
     """The distribution of |heading error| per label (share of shots at or below); the figure.
 
-    Each label is a step curve on a log axis with the 0.5 deg tolerance marked; a missed
-    ball never reaches the curve's top, and the legend counts the misses.
+    Each label is a step curve on a log axis, in a style of its own (colour, dashes,
+    markers, width: curves that lie on each other stay visible), with the 0.5 deg tolerance
+    marked; a missed ball never reaches the curve's top, and the legend counts the misses.
+    The legend is kept off the data: below a figure made here, or right of given axes.
 
     Args:
         outcomes: ``{label: [Outcome, ...]}``.
         ax: Axes to draw into; a new figure when None.
         title: The axes' title; a default when None.
+        legend: ``"outside"`` (below a figure made here, right of given axes), ``"inside"``
+            (the lower right corner, which the rising curves leave empty when most shots
+            are within a degree) or ``"none"`` (for one legend of a whole grid of axes:
+            ``figure.legend(*ax.get_legend_handles_labels())``).
 
     Raises:
         InvalidInputError: An empty mapping, a label that is not a string, a non-outcome, a
             non-finite number, or ``ax`` not Axes.
+        UnknownNameError: An unknown ``legend`` placement.
         MissingDependencyError: matplotlib is not installed.
     """
     groups = _groups(outcomes)
+    placement = as_choice(legend, "legend", LEGEND_PLACEMENTS)
     plt = pyplot()
+    own = ax is None
     if ax is None:
-        figure, ax = plt.subplots(figsize=(6.4, 4.2))
+        figure, ax = plt.subplots(figsize=(6.4, 4.6), layout="constrained")
     elif not hasattr(ax, "step") or not hasattr(ax, "figure"):
         raise InvalidInputError(
             f"ax must be matplotlib Axes or None, got {type(ax).__name__}", name="ax"
@@ -197,6 +214,7 @@ def plot_heading_errors(
     else:
         figure = ax.figure
     floor = 1e-4  # [deg] errors below this are drawn at it (a log axis has no zero)
+    styles = line_styles(groups)
     for label, items in groups.items():
         errors = np.array([abs(o.heading_error) for o in items if o.hit])
         missed = len(items) - len(errors)
@@ -204,7 +222,7 @@ def plot_heading_errors(
         values = np.maximum(np.sort(errors), floor)
         name = f"{label} ({missed} missed)" if missed else label
         ax.step(np.concatenate([[floor], values]), np.concatenate([[0.0], share]), where="post",
-                label=name)  # fmt: skip
+                label=name, **styles[label].kwargs(len(values) + 1))  # fmt: skip
     ax.axvline(HEADING_TOLERANCE, color="0.3", ls="--", lw=0.8, label="tolerance")
     ax.set_xscale("log")
     ax.set_ylim(0.0, 1.02)
@@ -212,5 +230,10 @@ def plot_heading_errors(
     ax.set_ylabel("share of shots at or below")
     ax.set_title(title if title is not None else "Heading error per controller", fontsize=10)
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8, loc="upper left")
+    if placement == "outside" and own:
+        legend_below(figure, *ax.get_legend_handles_labels())
+    elif placement == "outside":
+        ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
+    elif placement == "inside":
+        ax.legend(fontsize=8, loc="lower right")
     return figure

@@ -34,7 +34,7 @@ def test_plot_draws_each_run_and_the_limits(runs):
     ratios = np.max([np.max(np.abs(r.command) / robot.limits.velocity, axis=0) for r in results], 0)
     joint = int(np.argmax(ratios))
     assert robot.limits.names[joint] in joint_axes.get_ylabel()
-    limit_lines = [line for line in joint_axes.lines if line.get_linestyle() == "--"]
+    limit_lines = [line for line in joint_axes.lines if line.get_gid() == "limit"]
     assert sorted(line.get_ydata()[0] for line in limit_lines) == pytest.approx(
         [-robot.limits.velocity[joint], robot.limits.velocity[joint]]
     )
@@ -44,6 +44,23 @@ def test_plot_draws_each_run_and_the_limits(runs):
         results[0].T_world_tool[:, :3, 3] - results[0].references.T_world_tool[:, :3, 3], axis=1
     )
     np.testing.assert_allclose(drawn, expected)
+
+
+def test_runs_are_told_apart_and_the_legend_is_off_the_data(runs):
+    robot, results = runs
+    figure = plot_tracking([results[0], results[1], results[1]], robot.limits)
+    error_axes = figure.axes[0]
+    looks = {
+        (line.get_color(), line.get_marker(), line.get_linewidth()) for line in error_axes.lines
+    }
+    assert len(looks) == 3
+    labels = [line.get_label() for line in error_axes.lines]
+    assert labels[1].startswith(f"{results[1].controller} (1)")
+    assert labels[2].startswith(f"{results[1].controller} (2)")
+    figure.canvas.draw()
+    (legend,) = figure.legends
+    assert legend.get_window_extent().y1 <= figure.axes[-1].get_window_extent().y0
+    assert "speed limit" in [text.get_text() for text in legend.get_texts()]
 
 
 def test_plot_rejects_bad_arguments(runs):

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from optraj import physics, problems
-from optraj.errors import InvalidInputError
+from optraj.errors import InvalidInputError, UnknownNameError
 
 matplotlib = pytest.importorskip("matplotlib")  # optraj[examples]
 matplotlib.use("Agg")  # headless; plotting imports pyplot only when called
@@ -54,6 +54,28 @@ def test_heading_errors_are_drawn_as_shares_with_the_misses_counted(balls):
     # A miss never reaches the top: 2 of 3 shots at most.
     assert curves[0].get_ydata()[-1] == 1.0
     assert curves[1].get_ydata()[-1] == pytest.approx(2 / 3)
+    # each label a style of its own, the legend below the axes, off the data
+    assert curves[0].get_linestyle() != curves[1].get_linestyle() or (
+        curves[0].get_marker() != curves[1].get_marker()
+    )
+    assert curves[0].get_color() != curves[1].get_color()
+    figure.canvas.draw()
+    (legend,) = figure.legends
+    assert legend.get_window_extent().y1 <= ax.get_window_extent().y0
+    matplotlib.pyplot.close(figure)
+
+
+def test_heading_errors_on_given_axes_keep_the_legend_outside_or_leave_it(balls):
+    hits, _ = balls
+    figure, (left, right) = matplotlib.pyplot.subplots(1, 2, layout="constrained")
+    physics.plot_heading_errors({"straight": hits}, ax=left)
+    physics.plot_heading_errors({"straight": hits}, ax=right, legend="none")
+    figure.canvas.draw()
+    box = left.get_legend().get_window_extent()
+    assert box.x0 >= left.get_window_extent().x1  # right of the axes
+    assert right.get_legend() is None
+    with pytest.raises(UnknownNameError, match="legend"):
+        physics.plot_heading_errors({"straight": hits}, ax=right, legend="top")
     matplotlib.pyplot.close(figure)
 
 
