@@ -34,7 +34,15 @@ from optraj.planners.base import stamp
 from optraj.planners.profiles.polynomial_coefficients import quintic_coefficients
 from optraj.planners.profiles.via_segments import segment_phases
 from optraj.planners.trajectory import Trajectory
-from optraj.validation import MAX_COUNT, as_array, as_number, as_positive, as_vector, ndim_of
+from optraj.validation import (
+    MAX_COUNT,
+    MAX_DURATION,
+    as_array,
+    as_number,
+    as_positive,
+    as_vector,
+    ndim_of,
+)
 
 __all__ = ["MultiSegmentProfile", "SegmentInfo", "mstraj"]
 
@@ -77,6 +85,11 @@ class MultiSegmentProfile(SampledProfile):
     arrive: FloatArray
     via: FloatArray
     info: tuple[SegmentInfo, ...]
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        self.arrive.setflags(write=False)
+        self.via.setflags(write=False)
 
 
 def _whole_steps(value: FloatArray, dt: float) -> FloatArray:
@@ -143,9 +156,9 @@ def _segment_times(
     lead = tacc.copy()
     lead[0] = _whole_steps(np.array([0.5 * tacc[0]]), dt)[0]  # the first blend is half
     needed = lead[:, None] + _whole_steps(np.abs(np.diff(points, axis=0)) / speeds, dt)
-    slowest = [int(j) for j in np.argmax(needed, axis=1)]
+    slowest: list[int | None] = [int(j) for j in np.argmax(needed, axis=1)]
     times = np.maximum.reduce([np.max(needed, axis=1), 2.0 * tacc, room, np.full(segments, dt)])
-    return times, list(slowest)
+    return times, slowest
 
 
 def _pieces(
@@ -162,15 +175,13 @@ def _pieces(
     out = np.vstack([line, vf])
     pieces = []
     for i in range(k):
+        # The blend about via point i, from the line before it to the line after it; at the
+        # start and end, one-sided: from the start state, or onto the last via point.
         start, end = max(via[i] - half[i], 0.0), min(via[i] + half[i], T)
         q_start = points[i] - (via[i] - start) * into[i]
         q_end = points[i] + (end - via[i]) * out[i]
-        if i == k - 1:
-            q_end = points[i]
-        if i == 0:
-            q_start = points[0]
         pieces.append((start, end, q_start, into[i], q_end, out[i]))
-        if i < k - 1:
+        if i < k - 1:  # the line of segment i, between its blends (a quintic of degree 1)
             a, b = via[i] + half[i], via[i + 1] - half[i + 1]
             q_a = points[i] + half[i] * line[i]
             pieces.append((a, b, q_a, line[i], q_a + (b - a) * line[i], line[i]))
@@ -258,6 +269,12 @@ def mstraj(
     vf = np.zeros(n) if qdf is None else as_vector(qdf, "qdf", n)
     blends = _blend_times(tacc, points.shape[0] - 1, step)
     h, slowest = _segment_times(points, step, blends, qdmax, tsegment)
+    if float(np.sum(h)) > MAX_DURATION:
+        raise InvalidInputError(
+            f"the motion would last {np.sum(h):.6g} s, more than {MAX_DURATION:.6g} s: "
+            f"raise qdmax or shorten tsegment",
+            name="qdmax" if tsegment is None else "tsegment",
+        )
     breakpoints, coefficients = _pieces(points, h, blends, v0, vf)
     arrive = np.cumsum(h)
     traj = stamp(

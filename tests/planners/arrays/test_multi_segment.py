@@ -36,6 +36,7 @@ def test_segment_times_follow_the_toolbox_rules_worked_by_hand():
     assert len(tg) == 44 and tg.istime is True
     np.testing.assert_allclose(np.diff(tg.t), 0.1, rtol=1e-9)
     np.testing.assert_array_equal(tg.via, VIA[1:])
+    assert not tg.via.flags.writeable and not tg.arrive.flags.writeable
     np.testing.assert_array_equal(tg.q[0], VIA[0])
     np.testing.assert_allclose(tg.q[-1], VIA[-1], rtol=0, atol=1e-12)
     np.testing.assert_allclose(tg.qd[[0, -1]], 0.0, rtol=0, atol=1e-12)
@@ -125,6 +126,8 @@ def test_checker_finds_bounded_acceleration_and_jerk():
         ({"qdmax": 1.0, "viapoints": VIA[:1]}, "viapoints", "two rows"),
         ({"qdmax": 1.0, "viapoints": [[0.0, np.nan], [1.0, 1.0]]}, "viapoints", "finite"),
         ({"qdmax": 1.0, "dt": 1e-7}, "dt", "make dt larger"),
+        ({"qdmax": 1e-6}, "qdmax", "more than 86400 s: raise qdmax"),
+        ({"tsegment": [1e5, 1.0]}, "tsegment", "more than 86400 s"),
     ],
 )
 def test_bad_input_is_refused_naming_the_argument(kwargs, name, words):
