@@ -37,9 +37,10 @@ from optraj.planners.trajectory import Trajectory
 from optraj.validation import (
     MAX_COUNT,
     MAX_DURATION,
+    MIN_DURATION,
     as_array,
+    as_duration,
     as_number,
-    as_positive,
     as_vector,
     ndim_of,
 )
@@ -138,12 +139,13 @@ def _segment_times(
         raise InvalidInputError("give qdmax or tsegment, not both", name="qdmax")
     if tsegment is not None:
         times = as_vector(tsegment, "tsegment", segments)
-        short = np.flatnonzero((times <= 0.0) | (times < room * (1.0 - _GAP)))
+        short = np.flatnonzero((times < MIN_DURATION) | (times < room * (1.0 - _GAP)))
         if short.size:
             i = int(short[0])
             raise InvalidInputError(
-                f"tsegment[{i}] = {times[i]:.6g} s is too short: it must be > 0 s and hold its "
-                f"blends, at least {room[i]:.6g} s (half the blend time at each end)",
+                f"tsegment[{i}] = {times[i]:.6g} s is too short: it must be >= "
+                f"{MIN_DURATION:.6g} s and hold its blends, at least {room[i]:.6g} s (half the "
+                f"blend time at each end)",
                 name="tsegment",
                 value=tsegment,
             )
@@ -155,7 +157,8 @@ def _segment_times(
     speeds = _speed_limits(qdmax, points.shape[1])
     lead = tacc.copy()
     lead[0] = _whole_steps(np.array([0.5 * tacc[0]]), dt)[0]  # the first blend is half
-    needed = lead[:, None] + _whole_steps(np.abs(np.diff(points, axis=0)) / speeds, dt)
+    with np.errstate(over="ignore"):  # an infinite time is refused by the caller
+        needed = lead[:, None] + _whole_steps(np.abs(np.diff(points, axis=0)) / speeds, dt)
     slowest: list[int | None] = [int(j) for j in np.argmax(needed, axis=1)]
     times = np.maximum.reduce([np.max(needed, axis=1), 2.0 * tacc, room, np.full(segments, dt)])
     return times, slowest
@@ -173,24 +176,26 @@ def _pieces(
     # Velocities into and out of each via point: qd0 before the start, qdf after the end.
     into = np.vstack([v0, line])
     out = np.vstack([line, vf])
-    pieces = []
+    n = points.shape[1]
+    pieces: list[tuple[float, float, FloatArray]] = []  # (start, end, coefficients (6, n))
     for i in range(k):
         # The blend about via point i, from the line before it to the line after it; at the
         # start and end, one-sided: from the start state, or onto the last via point.
         start, end = max(via[i] - half[i], 0.0), min(via[i] + half[i], T)
         q_start = points[i] - (via[i] - start) * into[i]
         q_end = points[i] + (end - via[i]) * out[i]
-        pieces.append((start, end, q_start, into[i], q_end, out[i]))
-        if i < k - 1:  # the line of segment i, between its blends (a quintic of degree 1)
+        if end > start:
+            blend = quintic_coefficients(q_start, q_end, end - start, into[i], out[i])
+            pieces.append((start, end, blend))
+        if i < k - 1:  # the line of segment i, between its blends
             a, b = via[i] + half[i], via[i + 1] - half[i + 1]
-            q_a = points[i] + half[i] * line[i]
-            pieces.append((a, b, q_a, line[i], q_a + (b - a) * line[i], line[i]))
+            rows = np.zeros((6, n))
+            rows[0], rows[1] = points[i] + half[i] * line[i], line[i]
+            pieces.append((a, b, rows))
     kept = [piece for piece in pieces if piece[1] - piece[0] > _GAP * T]
     breakpoints = np.array([piece[0] for piece in kept] + [T])
     breakpoints[0] = 0.0
-    coefficients = np.zeros((len(kept), 6, points.shape[1]))
-    for row, (a, b, qa, va, qb, vb) in enumerate(kept):
-        coefficients[row] = quintic_coefficients(qa, qb, b - a, va, vb)
+    coefficients = np.stack([piece[2] for piece in kept])
     return breakpoints, coefficients
 
 
@@ -240,7 +245,7 @@ def mstraj(
     Args:
         viapoints: Via points [rad or m, any unit per axis], shape (k, n), one per row; the
             first row is the start unless q0 is given.
-        dt: Sample period [s], > 0.
+        dt: Sample period [s], in [MIN_DURATION, MAX_DURATION].
         tacc: Blend time [s], >= 0, rounded up to whole steps: one for every blend, or one
             per segment, shape (segments,) (the blend into segment i; the last one's half
             ends the motion).
@@ -257,14 +262,14 @@ def mstraj(
 
     Raises:
         InvalidInputError: Both or neither of qdmax and tsegment, arrays of the wrong shape,
-            values that are not finite, dt <= 0, tacc < 0, qdmax <= 0, a segment time too
+            values that are not finite, dt < 1e-6 s, tacc < 0, qdmax <= 0, a segment time too
             short for its blends, or more samples than MAX_COUNT values; the message names
             the argument and the bound.
     """
     started = time.perf_counter()
     points, via = _via_points(viapoints, q0)
     n = points.shape[1]
-    step = as_positive(dt, "dt", "s")
+    step = as_duration(dt, "dt")
     v0 = np.zeros(n) if qd0 is None else as_vector(qd0, "qd0", n)
     vf = np.zeros(n) if qdf is None else as_vector(qdf, "qdf", n)
     blends = _blend_times(tacc, points.shape[0] - 1, step)

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from optraj.errors import InvalidInputError
 from optraj.planners.arrays.inputs import TimeBase
 from optraj.planners.trajectory import Trajectory
 
@@ -95,9 +96,19 @@ def sample_fields(
         trajectory: The profile, over [0, base.end].
         base: The sample times.
         scalar: Return q, qd, qdd of shape (m,) (a one-joint trajectory) instead of (m, n).
+
+    Raises:
+        InvalidInputError: A sample is not finite (the values overflow double precision).
     """
-    sample = trajectory.sample(base.times)
+    with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below
+        sample = trajectory.sample(base.times)
     q, qd, qdd = (
         np.array(v[:, 0] if scalar else v, dtype=float) for v in (sample.q, sample.qd, sample.qdd)
     )
+    if not all(np.isfinite(v).all() for v in (q, qd, qdd)):
+        raise InvalidInputError(
+            "the samples overflow double precision: positions or velocities too large for "
+            f"the time span {base.end:.6g}; scale q0 and qf (or the via points) down",
+            name="q0",
+        )
     return base.times.copy(), q, qd, qdd

@@ -143,7 +143,8 @@ def trapezoidal(
 
     Raises:
         InvalidInputError: V outside (|qf - q0| / T, 2 |qf - q0| / T] (the message says
-            which bound and its value), a value that is not a finite number, or a bad ``t``.
+            which bound and its value), a value that is not a finite number, or a bad ``t``
+            (one spanning less than 3 MIN_DURATION too).
     """
     started = time.perf_counter()
     start, goal = as_number(q0, "q0"), as_number(qf, "qf")
@@ -156,6 +157,11 @@ def trapezoidal(
         traj = Trajectory.constant([start], T)
         blend, velocity = 0.0, 0.0
     else:
+        if T < 3.0 * MIN_DURATION:  # two blends and a cruise of MIN_DURATION at least
+            raise InvalidInputError(
+                f"t must span at least {3.0 * MIN_DURATION:.3g} s for a trapezoid, got {T:.6g} s",
+                name="t",
+            )
         speed = _cruise_speed(abs(delta), T, V)
         # Round-off may put the triangle's blend a hair past T / 2.
         blend = T / 3.0 if V is None else min(T - abs(delta) / speed, 0.5 * T)

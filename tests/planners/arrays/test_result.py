@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from optraj.errors import InvalidInputError
 from optraj.planners.arrays.inputs import time_base
 from optraj.planners.arrays.result import SampledProfile, sample_fields
 from optraj.planners.trajectory import Trajectory
@@ -46,3 +47,10 @@ def test_the_toolbox_names_are_synonyms_and_arrays_are_read_only():
     scalar = SampledProfile("quintic", *sample_fields(_line(1), base, scalar=True), False, traj)
     assert scalar.naxes == 1
     assert "steps" in repr(scalar)
+
+
+def test_samples_that_overflow_are_refused():
+    coefficients = np.zeros((1, 6, 1))
+    coefficients[0, 5, 0] = 1e306  # finite coefficients, q(4) = 1e306 * 4^5 overflows
+    with pytest.raises(InvalidInputError, match="overflow double precision"):
+        sample_fields(Trajectory([0.0, 4.0], coefficients), time_base(5), scalar=True)

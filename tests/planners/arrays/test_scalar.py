@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from optraj.errors import InvalidInputError
 from optraj.planners.arrays.scalar import quintic, trapezoidal
@@ -152,6 +154,8 @@ def test_trapezoidal_refuses_speeds_outside_the_toolbox_bounds():
     assert tg.tblend == pytest.approx(0.5)
     with pytest.raises(InvalidInputError, match="V must be finite"):
         trapezoidal(1.0, 2.0, t, V=np.nan)
+    with pytest.raises(InvalidInputError, match="t must span at least 3e-06 s"):
+        trapezoidal(1.0, 2.0, [0.0, 1e-6], V=2e6)
 
 
 def test_trapezoidal_without_motion_holds_still():
@@ -182,3 +186,19 @@ def test_scalar_profiles_agree_with_the_robotics_toolbox(rtb):
             # The acceleration jumps at the blends' ends: each side takes its own segment.
             away = np.abs(ours.t[:, None] - [theirs.tblend, ours.t[-1] - theirs.tblend]).min(1)
             np.testing.assert_allclose(ours.qdd[away > 1e-9], theirs.qdd[away > 1e-9], atol=1e-9)
+
+
+@settings(max_examples=200, deadline=None, derandomize=True)
+@given(
+    q0=st.floats(allow_nan=True, allow_infinity=True, width=64),
+    qf=st.floats(-1e6, 1e6),
+    end=st.floats(1e-7, 1e5),
+    V=st.one_of(st.none(), st.floats(allow_nan=True, allow_infinity=True)),
+)
+def test_any_numbers_give_finite_samples_or_a_typed_error(q0, qf, end, V):
+    for make in (lambda: quintic(q0, qf, [0.0, end]), lambda: trapezoidal(q0, qf, [0.0, end], V)):
+        try:
+            tg = make()
+        except InvalidInputError:
+            continue
+        assert all(np.all(np.isfinite(v)) for v in (tg.q, tg.qd, tg.qdd))
