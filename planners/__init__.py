@@ -10,6 +10,7 @@ against a robot's limits and a problem's constraints, independently of the plann
 True
 """
 
+from optraj.planners import arrays as arrays
 from optraj.planners.base import JointProfile, Planner
 from optraj.planners.checker import Finding, Report, check
 from optraj.planners.ocp.optimal_control import OptimalControl, OptimalControlProblem
