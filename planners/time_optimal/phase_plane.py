@@ -14,8 +14,8 @@ the squared path velocity :math:`x = \dot s^2`,
   :math:`u` meets every constraint there (toppra's feasible set, under the limits
   themselves);
 * each limit's own bound, ``bounds``: the same for that quantity alone (``inf`` where it
-  bounds nothing, as the accelerations of a straight line); where one is the lowest, that
-  limit binds;
+  bounds nothing, as the accelerations of a straight line, or nothing below toppra's cap);
+  where one is the lowest, that limit binds;
 * the controllable bound, ``sd_controllable``: the largest :math:`\dot s` from which the end
   of the path can still be reached (toppra's backward pass);
 * the plan, ``sd``: the forward pass, greedy under the controllable bound.
@@ -77,9 +77,14 @@ class PhasePlane:
             still be reached [path units/s], shape (N + 1,).
         bounds: Each limited quantity alone (``"velocity"``, ``"acceleration"``, and
             ``"torque"``, ``"tool speed"`` when the problem limits them): the largest path
-            velocity it allows [path units/s], shape (N + 1,), ``inf`` where it sets none.
+            velocity it allows [path units/s], shape (N + 1,).
         unit: The path unit: ``"rad"`` (chord length; also for prismatic joints, in m) or
             ``"s"``.
+
+    ``sd_max`` and a bound are ``inf`` where the constraints set no bound below toppra's cap
+    on a feasible set (``toppra.constants.CVXPY_MAXX`` = 1e4 on s-dot squared: 100 path
+    units/s, more on a short path, which is solved stretched): where they set none at all
+    (accelerations on a straight line, a path at rest) or only one far above any plan.
     """
 
     s: FloatArray

@@ -116,6 +116,22 @@ def test_torque_limits_add_their_own_bound():
     assert np.all(np.isfinite(plane.bounds["torque"]))
 
 
+def test_a_trajectory_used_as_a_path_sets_no_bound_where_it_rests():
+    robot = get_robot("sawyer")
+    move = problems.PointToPoint(robot, q_start=robot.home, q_goal=robot.home + 0.5)
+    quintic = planners.Quintic().plan(move)  # q'(s) = 0 at its rest ends (s is its time)
+    toppra = planners.Toppra(gridpoints=60)
+    problem = toppra.build(quintic, robot.limits)
+    plane = phase_plane(problem, toppra.solve(problem))
+    assert plane.unit == "s"
+    for bound in (plane.sd_max, plane.bounds["velocity"], plane.bounds["acceleration"]):
+        assert np.isinf(bound[0]) and np.isinf(bound[-1])
+        middle = bound[bound.size // 4 : 3 * bound.size // 4]
+        assert np.all(np.isfinite(middle))
+    assert plane.sd[0] == 0.0 and plane.sd[-1] == 0.0
+    assert np.all(plane.sd <= plane.sd_max)
+
+
 def test_a_plan_of_another_kind_or_path_is_refused(line, curve):
     robot, problem, traj, _ = line
     move = problems.PointToPoint(robot, q_start=robot.home, q_goal=[0.95, 0.0, 0.0, 0.0])

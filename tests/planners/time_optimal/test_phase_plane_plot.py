@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from conftest import get_robot
@@ -80,3 +82,11 @@ def test_it_draws_into_given_axes(line_plane):
 def test_anything_but_a_phase_plane_is_refused(line_plane):
     with pytest.raises(InvalidInputError, match="plane must be a PhasePlane"):
         plot_phase_plane(line_plane.sd)
+
+
+def test_a_bound_far_above_the_plan_is_named_as_above_the_axes(line_plane):
+    plane = line_plane
+    far = dataclasses.replace(plane, bounds={**plane.bounds, "torque": 100.0 * plane.sd_max})
+    figure = plot_phase_plane(far)
+    assert "torque limit alone (above the axes)" in _lines(figure)
+    assert figure.axes[0].get_ylim()[1] < np.min(far.bounds["torque"])
