@@ -310,7 +310,7 @@ def draw_plots(
             rows, columns, figsize=(4.6 * columns, 3.8 * rows), squeeze=False
         )
         for ax, (condition, groups) in zip(axes.flat, panels.items(), strict=False):
-            physics.plot_heading_errors(groups, ax=ax, title=condition)
+            physics.plot_heading_errors(groups, ax=ax, title=condition, legend="inside")
         for ax in list(axes.flat)[len(panels) :]:
             ax.set_visible(False)
         figure.suptitle(f"|heading error| of {PRIMARY} plans tracked on MuJoCo, all speeds")

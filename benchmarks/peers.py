@@ -67,10 +67,10 @@ def run(args: argparse.Namespace) -> tuple[list[Row], OcpRows]:
     total = len(specs) + 3
     rows = []
     for spec in specs:
-        progress(len(rows), total, spec.label[:28])
+        progress(len(rows), total, spec.label)
         rows.append(measure(spec, moves.count, args.repeats))
     for spec in strike_rows(args.shots):
-        progress(len(rows), total, spec.label[:28])
+        progress(len(rows), total, spec.label)
         rows.append(measure(spec, args.shots, args.repeats))
     progress(len(rows), total, "DiffIKQP step")
     steps = QUICK_STEPS if args.quick else None

@@ -135,7 +135,7 @@ def run(problems_: list[problems.PoolStrike], pairs: list[tuple[str, Any]]) -> d
                 report = check(traj, problem, quantities=QUANTITIES)
                 tally.record(index, traj.duration, report, wall)
             done += 1
-            progress(done, total, f"shot {index + 1}: {label}"[:28])
+            progress(done, total, f"shot {index + 1}: {label}")
     return tallies
 
 

@@ -340,7 +340,7 @@ def main(argv: list[str] | None = None) -> int:
                 result = run_condition(robot, planned, controller, condition, seed=index)
                 tallies[(condition, label)].record(result)
                 done += 1
-                progress(done, total, f"shot {index + 1}: {condition}"[:28])
+                progress(done, total, f"shot {index + 1}: {condition}")
     timing = timing_table(robot, planned_shots[0], repeats=1 if args.quick else 3)
     elapsed = time.perf_counter() - started
     lines = [

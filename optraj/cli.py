@@ -2,13 +2,13 @@
 
 ``optraj demo`` runs the main job (:mod:`optraj.demo`): the Sawyer pool shot planned by every
 pool-shot planner (what each did and why), tracked by both controllers, struck in MuJoCo (where
-the ball went), the checker's verdicts on the other tasks, plots and plans written to
-``--out`` and the files to open next. ``optraj plan`` plans one problem with one planner and
-writes the trajectory as JSON, ``optraj check`` judges such a file again, ``optraj bench``
-runs the benchmarks of the source checkout into ``--out`` (a new temporary folder by default),
-``optraj robots [NAME ...]`` lists the robots or prints their joints and limits
-(:mod:`optraj.cli_robots`), ``optraj map`` sweeps pool shots over the table and draws their heat
-maps (:mod:`optraj.cli_map`). ``optraj --version`` prints the installed version.
+the ball went), the checker's verdicts on the other tasks, plots and plans written to ``--out``
+and the files to open next. ``optraj plan`` plans one problem with one planner and writes the
+trajectory as JSON, CSV or ROS 2 YAML (``--format``), ``optraj check`` judges such a file again,
+``optraj bench`` runs the benchmarks of the source checkout into ``--out`` (a new temporary
+folder by default), ``optraj robots [NAME ...]`` lists the robots or prints their joints and
+limits (:mod:`optraj.cli_robots`), ``optraj map`` sweeps pool shots over the table and draws
+their heat maps (:mod:`optraj.cli_map`). ``optraj --version`` prints the installed version.
 
 Errors print one line to stderr (``optraj: error: ...``, led by the option at fault:
 :mod:`optraj.cli_errors`) and exit with status 2; ``check`` exits 1 when a trajectory fails.
@@ -418,7 +418,8 @@ def _plan_description() -> str:
     intro = (
         "Plan one problem with one planner, check the result and write it as JSON (the exact "
         "piecewise polynomials, with the problem recorded so that 'optraj check' can rebuild "
-        "it). Exit status 0 when planned and written (whatever the checker says), 2 when the "
+        "it), or with --format as CSV or a ROS 2 JointTrajectory in YAML sampled at --rate. "
+        "Exit status 0 when planned and written (whatever the checker says), 2 when the "
         "input is bad or no plan is possible (one line on stderr)."
     )
     return "\n\n".join(
@@ -429,7 +430,7 @@ def _plan_description() -> str:
 def _plan_parser(sub: Any) -> None:
     plan = sub.add_parser(
         "plan",
-        help="plan one problem with one planner and write the trajectory as JSON",
+        help="plan one problem with one planner and write the trajectory (JSON, CSV, ROS YAML)",
         formatter_class=argparse.RawDescriptionHelpFormatter,
         describe=_plan_description,
     )

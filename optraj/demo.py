@@ -42,7 +42,7 @@ class Progress:
     """
 
     def __init__(self, total: int = STEPS, stream: TextIO | None = None) -> None:
-        from tqdm import tqdm  # type: ignore[import-untyped]  # no stubs installed
+        from tqdm import tqdm
 
         # disable=None: drawn only when the stream is a terminal (no carriage return in a pipe).
         self._bar: Any = tqdm(

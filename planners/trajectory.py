@@ -18,7 +18,6 @@ with trajectories are importable from here too.
 
 from __future__ import annotations
 
-import importlib
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, cast
@@ -265,7 +264,7 @@ class Trajectory:
         planner = self.metadata.get("planner", "?")
         phases = ", ".join(p.name for p in self.phases) or "-"
         # A deferred trajectory is not built just to be shown.
-        segments = "?" if self._pieces is None else str(len(self._pieces[0]) - 1)
+        segments = "deferred" if self._pieces is None else str(len(self._pieces[0]) - 1)
         return (
             f"Trajectory(duration={self.duration:.4g} s, dof={self.dof}, "
             f"segments={segments}, planner={planner!r}, phases=[{phases}])"
@@ -476,8 +475,9 @@ class Trajectory:
         Returns:
             What ``plot_trajectory`` returns (its matplotlib figure).
         """
-        plotting = importlib.import_module("optraj.planners.plot")
-        return plotting.plot_trajectory(self, **kwargs)
+        from optraj.planners.plot_trajectory import plot_trajectory
+
+        return plot_trajectory(self, **kwargs)
 
 
 def _check_groups(phases: object) -> None:

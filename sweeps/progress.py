@@ -20,7 +20,7 @@ class Progress:
     """
 
     def __init__(self, total: int, enabled: bool = True, stream: TextIO | None = None) -> None:
-        from tqdm import tqdm  # type: ignore[import-untyped]  # no stubs installed
+        from tqdm import tqdm
 
         self.total = total
         self.done = 0

@@ -125,21 +125,24 @@ def run(
     todo = [shot for shot in found if shot.shot_id not in rows][:limit]
     size = None if chunk_size is None else as_count(chunk_size, "chunk_size", 1)
     bar = Progress(len(todo), show)
-    with RowFile(out) as file:
+    try:
+        with RowFile(out) as file:
 
-        def on_row(row: dict[str, object]) -> None:
-            file.write(row)
-            rows[str(row["shot_id"])] = row
-            bar.advance()
+            def on_row(row: dict[str, object]) -> None:
+                file.write(row)
+                rows[str(row["shot_id"])] = row
+                bar.advance()
 
-        if scheduler is not None and todo:
-            _cluster().run_dask(todo, job, on_row, scheduler=scheduler, chunk_size=size)
-        elif count == 0 or not todo:
-            run_serial(todo, job, on_row)
-        else:
-            size = size or default_chunk_size(len(todo), count)
-            workers_used = min(count, math.ceil(len(todo) / size))
-            run_processes(todo, job, on_row, workers=workers_used, chunk_size=size)
+            if scheduler is not None and todo:
+                _cluster().run_dask(todo, job, on_row, scheduler=scheduler, chunk_size=size)
+            elif count == 0 or not todo:
+                run_serial(todo, job, on_row)
+            else:
+                size = size or default_chunk_size(len(todo), count)
+                workers_used = min(count, math.ceil(len(todo) / size))
+                run_processes(todo, job, on_row, workers=workers_used, chunk_size=size)
+    finally:
+        bar.close()  # a sweep that raises leaves no open bar line
     return [rows[shot.shot_id] for shot in found if shot.shot_id in rows]
 
 

@@ -44,6 +44,7 @@ from optraj.planners.checker.checking import check
 from optraj.planners.checker.joint_limits import QUANTITIES
 from optraj.planners.checker.report import Checkable, Finding, Report, TrajectoryInfo
 from optraj.planners.checker.strike_line import STRIKE_WINDOW_TOLERANCE
+from optraj.planners.checker.verdict import failing_findings, finding_note, verdict
 from optraj.planners.trajectory import MAX_RATE
 
 __all__ = [
@@ -58,6 +59,9 @@ __all__ = [
     "Report",
     "TrajectoryInfo",
     "check",
+    "failing_findings",
+    "finding_note",
     "round_off",
     "state_allowance",
+    "verdict",
 ]

@@ -10,4 +10,6 @@ Import the planners from :mod:`optraj.planners`; the modules here hold their pie
   joint states), ``ruckig_validation``, ``ruckig_calculation``, ``ruckig_conversion`` and
   ``ruckig_limits``; ``ruckig_online``: :class:`OnlineRuckig`, one control tick at a time.
 * ``lower_bound``: :func:`lower_bound`, the time no planner can beat for a joint move.
+* ``phase_plane``: :func:`~.phase_plane.phase_plane`, TOPPRA's (s, s-dot) plane of a plan (its
+  plot in ``phase_plane_plot``).
 """
