@@ -106,7 +106,7 @@ def _attempt(plan: Callable[[], planners.Trajectory], problem: Any = None) -> di
 
 def _strike_planners() -> list[tuple[str, Any]]:
     return [
-        ("seed", planners.SeedStrike()),
+        ("pull-back", planners.PullBackStrike()),
         ("cubic", planners.ClassicStrike("cubic", contact="choose")),
         ("quintic", planners.ClassicStrike("quintic", contact="choose")),
         ("lspb", planners.ClassicStrike("lspb", contact="choose")),
@@ -155,7 +155,7 @@ def cases() -> Iterator[tuple[str, Callable[[], dict[str, Any]]]]:
         for label, planner in _joint_planners():
             yield f"{name} {label}", lambda p=planner, m=move: _attempt(lambda: p.plan(m), m)
         yield f"{name} lower bound", lambda m=move: {"value": planners.lower_bound(m)}
-    paddle = problems.seed_paddle_strike()
+    paddle = problems.ece486_paddle_strike()
     for label, planner in [("cubic", planners.Cubic()), ("ocp", planners.OptimalControl())]:
         yield f"paddle {label}", lambda p=planner: _attempt(lambda: p.plan(paddle), paddle)
     blocks = problems.youbot_two_blocks()

@@ -77,7 +77,7 @@ def _planners() -> list[tuple[str, Any, bool]]:
         (PRIMARY, planners.OptimalControl("time"), True),
         ("min-jerk OCP", planners.OptimalControl("jerk"), True),
         ("Ruckig strike", planners.TimeOptimalStrike(), True),
-        ("seed", planners.SeedStrike(), False),
+        ("pull-back", planners.PullBackStrike(), False),
     ]
 
 
@@ -169,7 +169,7 @@ def _reason(exc: BaseException) -> str:
 def paddle_cases(count: int) -> dict[str, list[physics.Outcome]]:
     """``count`` random reachable paddle4 strikes, alone and tracked by every controller."""
     rng = np.random.default_rng(11)
-    robot = problems.seed_paddle_strike().robot
+    robot = problems.ece486_paddle_strike().robot
     found: dict[str, list[physics.Outcome]] = defaultdict(list)
     planner = planners.OptimalControl("time")
     made = attempts = 0
@@ -452,7 +452,7 @@ def main(argv: list[str] | None = None) -> int:
         f"Command: `{_command(args)}`"
         f" ({args.shots} random Sawyer shots per speed, every plan alone; {PRIMARY} tracked "
         f"on all of them, the other planners on the first {args.others}; plans within "
-        f"{PLAN_MARGIN:g} of the limits except the seed's, MuJoCo plant at 1 kHz).",
+        f"{PLAN_MARGIN:g} of the limits except the pull-back shot's, MuJoCo plant at 1 kHz).",
         "",
         "## Targets",
         "",

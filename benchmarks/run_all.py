@@ -120,7 +120,7 @@ def draw_plots(out: Path) -> list[Path]:
         controllers.simulate(robot, fastest, make(robot))
         for make in (controllers.PseudoInversePID, controllers.DiffIKQP)
     ]
-    compared = ("seed (pull back + line)", "ruckig strike", "optimal control (min time)")
+    compared = ("pull-back + line", "ruckig strike", "optimal control (min time)")
     figures = {
         "profiles.png": plot_profiles(joint_plans, robot.limits),
         "strike_speed.png": plot_tool_speed(robot, strikes),

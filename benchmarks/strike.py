@@ -44,13 +44,14 @@ RESULTS = Path(__file__).resolve().parent / "results"
 QUANTITIES = ("position", "velocity", "acceleration", "jerk")
 REFERENCE = "cubic strike"  # the row motion times are compared with
 #: The profile rows start from the contact configuration OptimalControl chooses, so that
-#: every row but the seed's compares profiles on the same IK branch (from the problem's own
-#: configuration, the one nearest the start, the line itself breaks a limit on most shots).
+#: every row but the pull-back shot's compares profiles on the same IK branch (from the
+#: problem's own configuration, the one nearest the start, the line itself breaks a limit on
+#: most shots).
 CONTACT = "choose"
 #: Row labels of the registry's pool-shot planners; a planner not named here is labelled
 #: with its own ``name``.
 LABELS = {
-    "seed": "seed (pull back + line)",
+    "pull-back": "pull-back + line",
     "cubic": "cubic strike",
     "quintic": "quintic strike",
     "lspb": "lspb strike",
@@ -460,7 +461,8 @@ def main(argv: list[str] | None = None) -> int:
         "planning wall time. Errors: the `OptrajError` classes raised; checker failures: how",
         "often each finding failed. The profile rows (cubic to Ruckig) start from the",
         'contact configuration OptimalControl chooses (`contact="choose"`), so that all but',
-        "the seed's compare profiles on one IK branch; the seed starts from the problem's own",
+        "the pull-back shot's compare profiles on one IK branch; the pull-back shot starts from",
+        "the problem's own",
         "(the IK solution nearest the start).",
     ]
     lines.extend(extra_sections(problems_, quick=args.quick))

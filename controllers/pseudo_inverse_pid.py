@@ -1,4 +1,4 @@
-r"""The seed's tracking controller: Cartesian PID through the Jacobian pseudo-inverse.
+r"""The Sawyer exercise's tracking controller: Cartesian PID through the Jacobian pseudo-inverse.
 
 .. math:: \dot q_{cmd} = J^{+} v_{cmd}, \qquad
           J^{+} = J^T (J J^T + \lambda^2 I)^{-1}
@@ -6,7 +6,7 @@ r"""The seed's tracking controller: Cartesian PID through the Jacobian pseudo-in
 with :math:`v_{cmd}` from :class:`~controllers.cartesian_pid.CartesianPID` and
 :math:`\lambda = 0` the plain Moore-Penrose pseudo-inverse. The command carries the plan's
 feed-forward torque (its inverse dynamics without gravity) for the plant's servo. It knows
-no joint limits, as in the seed: near a singularity or with a plan that already runs at a
+no joint limits, as in the Sawyer exercise: near a singularity or with a plan that already runs at a
 limit it commands whatever the inverse gives. :class:`~controllers.diff_ik_qp.DiffIKQP` is its
 limit-aware replacement.
 """
@@ -47,7 +47,7 @@ class PseudoInversePID(Controller):
         kd: Derivative gain on the twist error [-], same forms.
         integral_limit: Anti-windup clamp of the integrated error [m s, rad s].
         damping: Damping ``lambda`` of the damped least-squares inverse [-], 0 or in
-            [MIN_DAMPING, MAX_DAMPING]; 0 is the plain pseudo-inverse of the seed.
+            [MIN_DAMPING, MAX_DAMPING]; 0 is the plain pseudo-inverse of the Sawyer exercise.
         task: ``"pose"`` (6-D) or ``"axis"`` (5-D: roll about the tool z axis is free; the
             Jacobian's angular rows are projected on the plane normal to the axis).
         feedforward: Whether the command carries the plan's feed-forward torque

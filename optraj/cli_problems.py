@@ -107,12 +107,12 @@ def _pool_shot(get: Getter) -> Any:
 
 def _paddle_strike(get: Getter) -> Any:
     from optraj import problems, robots
-    from optraj.problems.scenarios import SEED_PADDLE_BALLS
+    from optraj.problems.scenarios import ECE486_PADDLE_BALLS
     from optraj.validation import as_vector
 
     return problems.PaddleStrike(
         robots.load("paddle4"),
-        ball=as_vector(get("ball", SEED_PADDLE_BALLS[0]), "--ball", 3),
+        ball=as_vector(get("ball", ECE486_PADDLE_BALLS[0]), "--ball", 3),
         speed=_number(get, "speed", 0.0, "m/s"),
     )
 

@@ -119,7 +119,7 @@ def _other_tasks(progress: Any, out: TextIO) -> None:
             f"{verdict}\n"
         )
     progress("the ECE486 paddle task")
-    paddle = problems.seed_paddle_strike()
+    paddle = problems.ece486_paddle_strike()
     traj = planners.Cubic().plan(paddle)
     report = planners.check(traj, paddle)
     end = ", ".join(f"{v:.4f}" for v in traj.sample(traj.duration).q)

@@ -34,10 +34,10 @@ QUANTITIES = ("position", "velocity", "acceleration", "jerk")
 #: Fraction of the limits the tracked plan is planned within (room for the controllers).
 TRACKING_SCALE = 0.8
 #: What the planners are called in the demo's text, where their own names say too little.
-LABELS = {"seed": "pull-back + constant-speed strike"}
+LABELS = {"pull-back": "pull-back + constant-speed strike"}
 #: Why a planner that plans the shot breaks a limit, by command-line name.
 WHY_IT_FAILS = {
-    "seed": "it starts the strike line at full speed from rest, so the cue's velocity jumps",
+    "pull-back": "it starts the strike line at full speed from rest, so the cue's velocity jumps",
 }
 
 

@@ -82,7 +82,7 @@ PADDLE_BALL_MASS = 0.0027
 CUE_TIP_RADIUS = 0.006
 #: Cue shaft radius [m] (the model's cue, robots.loading.SAWYER_CUE_RADIUS).
 CUE_SHAFT_RADIUS = 0.0065
-#: Paddle blade radius and thickness [m] (our choice: a 150 mm blade; the seed's paddle
+#: Paddle blade radius and thickness [m] (our choice: a 150 mm blade; the ECE486 paddle
 #: thickness w_p = 0.01 m).
 PADDLE_RADIUS = 0.075
 PADDLE_THICKNESS = 0.01
@@ -247,7 +247,7 @@ class StrikeScene:
         """How far ahead of the tool frame, along its z axis, the ball centre is met [m].
 
         Pool: one ball radius (the tool frame is the front of the cue tip). Paddle: the
-        seed's ``BALL_OFFSET`` from the paddle centre, as the plans place the ball.
+        ECE486 ``BALL_OFFSET`` from the paddle centre, as the plans place the ball.
         """
         return float(self.ball_radius) if self.kind == "pool" else BALL_OFFSET
 

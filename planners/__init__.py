@@ -4,7 +4,7 @@ Every planner has ``plan(problem) -> Trajectory``; :func:`check` judges any traj
 against a robot's limits and a problem's constraints, independently of the planner.
 
 >>> from optraj import planners, problems
->>> problem = problems.seed_paddle_strike()
+>>> problem = problems.ece486_paddle_strike()
 >>> traj = planners.Cubic().plan(problem)
 >>> planners.check(traj, problem, quantities=("position", "velocity", "acceleration")).ok
 True
@@ -32,7 +32,7 @@ from optraj.planners.strike.contact import (
     contact_choices,
     contact_near,
 )
-from optraj.planners.strike.seed_strike import SeedStrike
+from optraj.planners.strike.pull_back_strike import PullBackStrike
 from optraj.planners.strike.time_optimal_strike import TimeOptimalStrike
 from optraj.planners.strike.window_check import WindowCheck, WindowRatio
 from optraj.planners.time_optimal.lower_bound import lower_bound
@@ -55,10 +55,10 @@ __all__ = [
     "Phase",
     "PickAndPlacePlanner",
     "Planner",
+    "PullBackStrike",
     "Quintic",
     "Report",
     "Ruckig",
-    "SeedStrike",
     "SolveStats",
     "TimeOptimalStrike",
     "Toppra",

@@ -30,7 +30,7 @@ from optraj.planners.profiles.lspb import LSPB
 from optraj.planners.profiles.sequencer import PickAndPlacePlanner
 from optraj.planners.profiles.time_scaling import Cubic, Quintic
 from optraj.planners.strike.classic_strike import ClassicStrike
-from optraj.planners.strike.seed_strike import SeedStrike
+from optraj.planners.strike.pull_back_strike import PullBackStrike
 from optraj.planners.strike.time_optimal_strike import TimeOptimalStrike
 from optraj.planners.time_optimal.ruckig_planner import Ruckig
 from optraj.planners.time_optimal.toppra_planner import Toppra
@@ -53,7 +53,7 @@ def _optimal_control() -> dict[str, Factory]:
 
 _REGISTRY: dict[str, dict[str, Factory]] = {
     "pool-shot": {
-        "seed": SeedStrike,
+        "pull-back": PullBackStrike,
         "cubic": partial(ClassicStrike, "cubic"),
         "quintic": partial(ClassicStrike, "quintic"),
         "lspb": partial(ClassicStrike, "lspb"),

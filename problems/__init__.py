@@ -17,7 +17,7 @@ from optraj.problems.paddle_strike import PaddleStrike
 from optraj.problems.pick_and_place import PickAndPlace
 from optraj.problems.point_to_point import PointToPoint
 from optraj.problems.pool_strike import POOL_BALL_RADIUS, PoolStrike
-from optraj.problems.scenarios import sawyer_pool_shot, seed_paddle_strike, youbot_two_blocks
+from optraj.problems.scenarios import ece486_paddle_strike, sawyer_pool_shot, youbot_two_blocks
 from optraj.problems.waypoints import Waypoints
 
 __all__ = [
@@ -34,7 +34,7 @@ __all__ = [
     "ToolPath",
     "ViaPoint",
     "Waypoints",
+    "ece486_paddle_strike",
     "sawyer_pool_shot",
-    "seed_paddle_strike",
     "youbot_two_blocks",
 ]

@@ -1,4 +1,4 @@
-"""The paddle4 strike of the ECE486 seed: meet a ball with the paddle centre."""
+"""The paddle4 strike of the ECE486 paddle task: meet a ball with the paddle centre."""
 
 from __future__ import annotations
 
@@ -25,16 +25,16 @@ FloatArray = NDArray[np.float64]
 
 __all__ = ["PaddleStrike"]
 
-#: The seed's plan: reach the ball in T = 2 s, tabulated at f = 5 Hz.
-SEED_CONTACT_TIME = 2.0
-SEED_TABLE_RATE = 5.0
+#: The ECE486 plan: reach the ball in T = 2 s, tabulated at f = 5 Hz.
+ECE486_CONTACT_TIME = 2.0
+ECE486_TABLE_RATE = 5.0
 
 
 @dataclass(frozen=True, eq=False)
 class PaddleStrike:
     """Bring the paddle centre to the ball at a given time, normal at the contact angle.
 
-    With ``speed = 0`` (the seed's version) the paddle arrives at rest and the motion ends at
+    With ``speed = 0`` (the ECE486 version) the paddle arrives at rest and the motion ends at
     contact. With ``speed > 0`` the ball centre is met at that speed along the paddle normal,
     and the motion continues until the robot stops.
 
@@ -43,8 +43,8 @@ class PaddleStrike:
         ball: Ball centre [m], shape (3,), inside the workspace cuboid.
         contact_angle: Angle of the paddle normal from +x about +z [rad].
         speed: Paddle speed along its normal at contact [m/s] (0: arrive at rest).
-        contact_time: Time of contact after the start [s] (the seed's T = 2 s).
-        q_start: Start configuration; the seed's home [0.45, 0, 0, 0] when None.
+        contact_time: Time of contact after the start [s] (the ECE486 task's T = 2 s).
+        q_start: Start configuration; the ECE486 home [0.45, 0, 0, 0] when None.
         limits: Limits to plan for; the robot's when None.
         position_tolerance: [m].
         angle_tolerance: [rad].
@@ -58,7 +58,7 @@ class PaddleStrike:
     ball: FloatArray
     contact_angle: float = 0.0
     speed: float = 0.0
-    contact_time: float = SEED_CONTACT_TIME
+    contact_time: float = ECE486_CONTACT_TIME
     q_start: FloatArray = None  # type: ignore[assignment]  # None: resolved in __post_init__
     limits: JointLimits = None  # type: ignore[assignment]  # None: the robot's (__post_init__)
     position_tolerance: float = 1e-6

@@ -1,4 +1,4 @@
-"""Pick blocks and stack them on a pile (the youBot task of seed Coursework 3, Q2)."""
+"""Pick blocks and stack them on a pile (the youBot task of Coursework 3, Q2)."""
 
 from __future__ import annotations
 

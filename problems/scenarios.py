@@ -1,4 +1,4 @@
-"""Ready-made problems: the seed documents' set-ups and a few reusable test cases."""
+"""Ready-made problems: the course documents' set-ups and a few reusable test cases."""
 
 from __future__ import annotations
 
@@ -13,10 +13,10 @@ from optraj.problems.pick_and_place import PickAndPlace
 from optraj.problems.pool_strike import PoolStrike
 from optraj.validation import as_number
 
-__all__ = ["sawyer_pool_shot", "seed_paddle_strike", "youbot_two_blocks"]
+__all__ = ["ece486_paddle_strike", "sawyer_pool_shot", "youbot_two_blocks"]
 
-#: The four workspace corners the ECE486 seed tabulates (ball centres) [m].
-SEED_PADDLE_BALLS = ((1.1, 0.8, 0.7), (1.1, -0.8, 0.7), (1.1, -0.8, -0.1), (1.1, 0.8, -0.1))
+#: The four workspace corners the ECE486 paddle task tabulates (ball centres) [m].
+ECE486_PADDLE_BALLS = ((1.1, 0.8, 0.7), (1.1, -0.8, 0.7), (1.1, -0.8, -0.1), (1.1, 0.8, -0.1))
 
 
 def _array(value: object) -> NDArray[np.float64]:
@@ -24,7 +24,7 @@ def _array(value: object) -> NDArray[np.float64]:
     return cast(NDArray[np.float64], value)
 
 
-def seed_paddle_strike(ball: tuple[float, float, float] = SEED_PADDLE_BALLS[0]) -> PaddleStrike:
+def ece486_paddle_strike(ball: tuple[float, float, float] = ECE486_PADDLE_BALLS[0]) -> PaddleStrike:
     """The ECE486 paddle4 task: from home, reach the ball at rest in 2 s (C = 0)."""
     return PaddleStrike(robots.load("paddle4"), ball=_array(ball))
 
@@ -33,7 +33,7 @@ def youbot_two_blocks() -> PickAndPlace:
     """Two 3 cm blocks, one on each side in front of the youBot, stacked on a pile.
 
     Positions are in arm_link_0 coordinates: the blocks lie 3 cm below the arm's base plane,
-    where a top-down grip is within reach (our set-up in the spirit of seed Coursework 3).
+    where a top-down grip is within reach (our set-up in the spirit of Coursework 3).
     """
     return PickAndPlace(
         robots.load("youbot"),

@@ -58,11 +58,11 @@ YOUBOT_ACCELERATION = (4.0, 4.0, 4.0, 6.0, 6.0)
 #: youBot "candle" pose (arm straight up) [rad].
 YOUBOT_CANDLE = (2.949606, 1.134464, -2.548181, 1.788962, 2.923426)
 
-#: paddle4 accelerations [m/s^2, rad/s^2, m/s^2, rad/s^2]; the seed gives none. Our choice,
+#: paddle4 accelerations [m/s^2, rad/s^2, m/s^2, rad/s^2]; the ECE486 task gives none. Our choice,
 #: sized to the efforts in paddle4.urdf: J1 lifts 7.75 kg at 9.81 + 5 m/s^2 (115 N of 150 N);
 #: J2 turns about 5.2 kg m^2 fully extended at 6 rad/s^2 (31 N m of 40 N m).
 PADDLE4_ACCELERATION = (5.0, 6.0, 8.0, 30.0)
-#: paddle4 home configuration of the seed [m, rad, m, rad].
+#: paddle4 home configuration of the ECE486 task [m, rad, m, rad].
 PADDLE4_HOME = (0.45, 0.0, 0.0, 0.0)
 
 #: Franka Panda acceleration and jerk limits published by Franka [rad/s^2, rad/s^3].
@@ -143,7 +143,9 @@ def _paddle4() -> Robot:
         _limits(model, PADDLE4_ACCELERATION),
         tool_frame="paddle",
         poses={"home": PADDLE4_HOME},
-        description="4-DOF P-R-P-R table-tennis paddle robot (ECE486 seed); tool: paddle centre",
+        description=(
+            "4-DOF P-R-P-R table-tennis paddle robot (ECE486 paddle task); tool: paddle centre"
+        ),
     )
 
 

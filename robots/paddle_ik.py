@@ -1,4 +1,4 @@
-r"""Closed-form inverse kinematics of the paddle4 robot (ECE486 seed document).
+r"""Closed-form inverse kinematics of the paddle4 robot (ECE486 paddle task).
 
 The paddle meets the ball with its centre: the ball centre lies on the paddle normal, 0.06 m
 from the joint-4 axis (joint radius 0.04 m + paddle thickness 0.01 m + ball radius 0.01 m).
@@ -11,8 +11,8 @@ about +z):
     \theta_1 = p_z + 0.2, \quad \theta_2 = \operatorname{atan2}(\beta, \alpha), \quad
     \theta_3 = \sqrt{\alpha^2 + \beta^2} - 1.1, \quad \theta_4 = C - \theta_2
 
-(the seed prints +0.06 sin C in beta; only the minus sign puts the paddle on the ball, and
-both agree at C = 0, where every number of the seed lies). The solution is unique.
+(the ECE486 text prints +0.06 sin C in beta; only the minus sign puts the paddle on the ball, and
+both agree at C = 0, where every number of the ECE486 task lies). The solution is unique.
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
-#: Workspace cuboid of the seed: the ball centre must lie in it [m].
+#: Workspace cuboid of the ECE486 task: the ball centre must lie in it [m].
 PADDLE4_WORKSPACE: dict[str, tuple[float, float]] = {
     "x": (0.3, 1.1),
     "y": (-0.8, 0.8),

@@ -74,7 +74,7 @@ def test_strike_quick_run_writes_its_table(tmp_path, monkeypatch):
     expected = [label for label, _ in module.planners_to_compare()]
     assert list(rows) == expected
     assert expected[:6] == [
-        "seed (pull back + line)",
+        "pull-back + line",
         "cubic strike",
         "quintic strike",
         "lspb strike",
@@ -96,7 +96,7 @@ def test_strike_quick_run_writes_its_table(tmp_path, monkeypatch):
     # The wall time's parts: the contact search, and the NLP's evaluations within its time.
     assert 0.0 < float(cells["median contact choice [ms]"]) < float(cells["median wall [ms]"])
     assert 0.0 < float(cells["median NLP evaluations [ms]"]) < float(cells["median NLP [ms]"])
-    seed = rows["seed (pull back + line)"]
+    seed = rows["pull-back + line"]
     assert seed["success"].startswith("0/4") and "acceleration 4" in seed["checker failures"]
     assert seed["errors"] == "-"
     # Ruckig and the quintic keep every limit or raise: none of their trajectories fails.

@@ -15,7 +15,7 @@ Problems and their phases
       free), ``stop`` (free, rest anywhere).
     * :class:`problems.PaddleStrike`: ``approach`` lasting the contact time and ending at the
       contact configuration with the ball point moving at the strike speed along the paddle
-      normal, then ``stop``; with speed 0 (the seed's task) the approach ends at rest.
+      normal, then ``stop``; with speed 0 (the ECE486 paddle task) the approach ends at rest.
 
 The contact configuration, objectives, torque limits, verification, build and solve apart,
 warm starts, failures and solve statistics are described in :mod:`planners.ocp`.

@@ -8,7 +8,7 @@
   reported as :class:`optraj.errors.PathJumpError` (or a warning).
 * :class:`CartesianStraightLine`: a straight line between two poses with SLERP orientation,
   time-scaled by a cubic, quintic or LSPB profile.
-* :class:`LinearTrajectory`: the pool-cue line of the seed documents, reproduced exactly:
+* :class:`LinearTrajectory`: the pool-cue line of the Sawyer pool-cue exercise, reproduced exactly:
   constant velocity from the start, holding still after the end.
 
 :func:`point_joint_velocity` and :func:`paddle_contact_velocity` live in
@@ -461,7 +461,7 @@ class _LimitsOnly:
 
 @dataclass(frozen=True)
 class LinearTrajectory:
-    """The seed's constant-velocity tool line, with its exact semantics.
+    """The pull-back shot's constant-velocity tool line, with its exact semantics.
 
     For 0 <= t <= T = |end - start| / speed: position = start + speed t d, velocity =
     speed d, acceleration 0 (d the unit direction). After T the position holds at ``end``
@@ -522,7 +522,7 @@ class LinearTrajectory:
     def to_joints(self, robot: Robot, q_start: ArrayLike, samples: int = 100) -> Trajectory:
         """The line as a joint trajectory over [0, T] (IK of the tool pose, orientation held).
 
-        The result starts and ends at full speed, as the seed's line does.
+        The result starts and ends at full speed, as the pull-back shot's line does.
 
         Args:
             robot: The robot.

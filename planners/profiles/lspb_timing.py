@@ -313,7 +313,7 @@ def lspb_fixed_blend(delta: ArrayLike, duration: float, blend_time: float) -> LS
 def lspb_fixed_cruise(delta: ArrayLike, duration: float, cruise_time: float) -> LSPBTiming:
     """LSPB of a given duration and cruise time tc: ``tb = (T - tc) / 2``, ``v = 2 d / (T + tc)``.
 
-    For the ECE486 seed, T = 3 s and tc = 1 s give tb = 1 s and v = delta / 2. Limits are not
+    For the ECE486 task, T = 3 s and tc = 1 s give tb = 1 s and v = delta / 2. Limits are not
     checked here.
 
     Args:

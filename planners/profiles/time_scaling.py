@@ -1,6 +1,6 @@
 """Cubic and quintic polynomial time scalings, joint by joint, all joints synchronised.
 
-A cubic meets positions and velocities at both ends (the ECE486 seed uses the rest-to-rest
+A cubic meets positions and velocities at both ends (the ECE486 paddle task uses the rest-to-rest
 form s(t) = 3 (t/T)^2 - 2 (t/T)^3); a quintic also meets accelerations (Coursework 3 Q1a solves
 its 6x6 system; here it is solved in closed form). Without a fixed duration, the shortest one
 whose velocity, acceleration (and, for the quintic, jerk) peaks fit the limits is found. Rest
@@ -399,7 +399,7 @@ class _Polynomial(JointProfile):
         return Trajectory(np.array([0.0, length]), coeffs[None], joint_names=limits.names)
 
     def plan(self, problem: PointToPoint | PaddleStrike) -> Trajectory:
-        """Plan a PointToPoint, or a paddle4 strike (the seed's: arrive at rest).
+        """Plan a PointToPoint, or a paddle4 strike (the ECE486 task's: arrive at rest).
 
         A PointToPoint may start and end moving (a cubic meets velocities, a quintic also
         accelerations). A paddle strike at speed approaches the ball in contact_time and then

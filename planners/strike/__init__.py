@@ -4,7 +4,8 @@ Import the planners from :mod:`optraj.planners`; the modules here hold their pie
 
 * ``classic_strike``: :class:`ClassicStrike` (cubic, quintic or LSPB approach, the line, a
   stop); ``time_optimal_strike``: :class:`TimeOptimalStrike` (TOPPRA or Ruckig);
-  ``seed_strike``: :class:`SeedStrike`, the seed documents' pull-back shot.
+  ``pull_back_strike``: :class:`PullBackStrike`, the pull-back + constant-speed strike of
+  the Sawyer pool-cue exercise.
 * ``contact``: :func:`choose_contact`, where and in which configuration the ball is met;
   ``contact_choice``: what it returns and the errors it refuses with; ``pool_contact`` and
   ``pool_search``: the pool shot's candidates and their search; ``paddle_contact``: the

@@ -23,9 +23,9 @@ Quintic
     (from zero exit acceleration the velocity falls as ``qd_exit (1 - 3 s^2 + 2 s^3)``).
 LSPB
     A trapezoidal velocity profile cannot enter the line at speed, so this profile plays the
-    seed's role (:class:`planners.SeedStrike`): a rest-to-rest LSPB from ``q_start`` to the
-    entry configuration, then the line starting at full speed, then holding still. The
-    velocity jumps at the entry and at the exit; the checker reports the unbounded
+    pull-back shot's role (:class:`planners.PullBackStrike`): a rest-to-rest LSPB from
+    ``q_start`` to the entry configuration, then the line starting at full speed, then holding
+    still. The velocity jumps at the entry and at the exit; the checker reports the unbounded
     accelerations this needs.
 
 With moving ends, the shape of a polynomial changes with its duration T, so its peaks do not
@@ -78,7 +78,7 @@ FloatArray = NDArray[np.float64]
 
 #: The approach profiles :class:`ClassicStrike` knows.
 PROFILES: tuple[str, ...] = ("cubic", "quintic", "lspb")
-#: How long the LSPB profile holds still after the line [s] (as :class:`planners.SeedStrike`).
+#: How long the LSPB profile holds still after the line [s] (as :class:`planners.PullBackStrike`).
 HOLD_TIME = 0.2
 #: Bounds of the duration search [s] and the points of its geometric grid (5 % apart).
 _SHORTEST, _LONGEST, _GRID = 1e-2, 1e2, 190

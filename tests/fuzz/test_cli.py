@@ -59,7 +59,7 @@ def assert_one_line_errors(argv: list[str]) -> str:
 _numbers = st.sampled_from(_NUMBERS)
 _robots = st.sampled_from(("paddle4", "sawyer", "youbot", "panda", "ur5", "SAWYER", "r2d2", ""))
 _problems = st.sampled_from((*cli.PROBLEMS, "pool", "", "point_to_point"))
-_planners = st.sampled_from(("seed", "cubic", "quintic", "lspb", "toppra", "ruckig", "x", ""))
+_planners = st.sampled_from(("pull-back", "cubic", "quintic", "lspb", "toppra", "ruckig", "x", ""))
 
 
 @st.composite

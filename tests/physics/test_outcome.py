@@ -57,7 +57,7 @@ def test_outcome_needs_a_mujoco_record(pool_shot, pool_plan):
 
 def test_a_paddle_strike_leaves_along_the_paddle_normal():
     paddle = problems.PaddleStrike(
-        problems.seed_paddle_strike().robot, ball=(0.8, 0.2, 0.3), speed=0.5
+        problems.ece486_paddle_strike().robot, ball=(0.8, 0.2, 0.3), speed=0.5
     )
     plan = planners.OptimalControl("time").plan(
         dataclasses.replace(paddle, limits=paddle.robot.limits.scaled(0.8))

@@ -98,7 +98,7 @@ def test_ball_plots_reject_bad_arguments(balls):
 
 def test_ball_paths_refuse_a_paddle_outcome():
     strike = problems.PaddleStrike(
-        problems.seed_paddle_strike().robot, ball=(0.8, 0.2, 0.3), speed=0.5
+        problems.ece486_paddle_strike().robot, ball=(0.8, 0.2, 0.3), speed=0.5
     )
     scene = physics.scene_for(strike)
     paddle = physics.outcome(physics.straight_cue(scene, strike.normal, 0.5), strike)

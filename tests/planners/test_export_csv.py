@@ -74,7 +74,7 @@ def test_rows_are_at_k_over_rate_plus_the_end_once(tmp_path, duration, rate, row
 def test_a_jump_is_not_written_twice(tmp_path):
     # The seed strike jumps in velocity where the line starts: the former export wrote that
     # breakpoint and a copy 1.66 ns before it.
-    plan = planners.SeedStrike().plan(problems.sawyer_pool_shot(speed=1.0))
+    plan = planners.PullBackStrike().plan(problems.sawyer_pool_shot(speed=1.0))
     path = tmp_path / "seed.csv"
     plan.to_csv(path, rate=100.0)
     _, table = _read(path)

@@ -15,12 +15,12 @@ def test_every_kind_lists_planners_that_plan_its_problem_within_the_limits():
         for kind in registry.KINDS
     }
     assert [type(p).__name__ for p in made["pool-shot"]] == [
-        "SeedStrike",
+        "PullBackStrike",
         *["ClassicStrike"] * 3,
         *["TimeOptimalStrike"] * 2,
         *["OptimalControl"] * 2,
     ]
-    problem = problems.seed_paddle_strike()
+    problem = problems.ece486_paddle_strike()
     for planner in made["paddle-strike"][:2]:  # the fast ones: judged by the checker
         assert planners.check(planner.plan(problem), problem).ok
 
@@ -59,14 +59,14 @@ def test_a_registered_planner_joins_its_kind_and_the_command_line(monkeypatch):
 
 def test_settings_reach_the_planner_and_unknown_ones_are_refused():
     assert "contact" in registry.options("pool-shot", "cubic")
-    assert "contact" not in registry.options("pool-shot", "seed")
+    assert "contact" not in registry.options("pool-shot", "pull-back")
     chosen = registry.make_planner("pool-shot", "toppra", contact="choose")
     assert chosen.contact == "choose"
     assert registry.make_planner("pool-shot", "toppra").contact == "problem"
     ocp = registry.make_planner("point-to-point", "optimal-control", intervals=7)
     assert ocp.intervals == 7 and ocp.objective == "time"
     with pytest.raises(InvalidInputError, match=r"takes no option 'contact'; its options are"):
-        registry.make_planner("pool-shot", "seed", contact="choose")
+        registry.make_planner("pool-shot", "pull-back", contact="choose")
     assert registry.options("pick-and-place", "cubic") == ()
 
 

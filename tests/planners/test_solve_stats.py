@@ -10,7 +10,7 @@ from optraj.errors import InvalidInputError
 
 @pytest.fixture(scope="module")
 def paddle():
-    return problems.seed_paddle_strike()
+    return problems.ece486_paddle_strike()
 
 
 def test_optimal_control_stats_sum_every_round_of_its_solver(paddle):

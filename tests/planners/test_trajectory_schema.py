@@ -41,7 +41,7 @@ PLANS = {
     "toppra": lambda: planners.Toppra(gridpoints=20).plan(_move()),
     "ruckig": lambda: planners.Ruckig().plan(_move()),
     "optimal control": lambda: planners.OptimalControl().plan(_move()),
-    "strike": lambda: planners.SeedStrike().plan(problems.sawyer_pool_shot(speed=1.0)),
+    "strike": lambda: planners.PullBackStrike().plan(problems.sawyer_pool_shot(speed=1.0)),
 }
 
 

@@ -9,8 +9,8 @@ from optraj import problems
 from optraj.errors import InvalidInputError
 
 
-def test_seed_paddle_strike_is_the_ece486_set_up():
-    problem = problems.seed_paddle_strike()
+def test_ece486_paddle_strike_is_the_ece486_set_up():
+    problem = problems.ece486_paddle_strike()
     np.testing.assert_allclose(problem.ball, [1.1, 0.8, 0.7])
     assert problem.contact_time == 2.0
 

@@ -1,4 +1,4 @@
-"""Tests of robots.paddle_ik: the closed-form paddle4 IK of the ECE486 seed."""
+"""Tests of robots.paddle_ik: the closed-form paddle4 IK of the ECE486 paddle task."""
 
 from __future__ import annotations
 

@@ -57,7 +57,7 @@ def test_demo_is_short_and_leads_with_the_pool_shot(demo):
     assert lines[0].startswith("optraj demo: a Sawyer arm strikes a pool ball")
     assert "right_j0 " not in text  # the limit tables are optraj robots NAME's
     # Names say what things are.
-    assert "seed" not in text.replace("plan-seed.json", "")
+    assert "seed" not in text.replace("plan-pull-back.json", "")
 
 
 def test_robots_lists_names():
@@ -159,13 +159,17 @@ def test_demo_says_where_the_ball_went_for_each_tracked_plan(demo):
 
 def test_demo_writes_plots_and_plans_that_check(demo, capsys):
     _, text, out_dir = demo
-    plans = ["plan-seed.json", "plan-optimal-control.json", "plan-optimal-control-tracked.json"]
+    plans = [
+        "plan-pull-back.json",
+        "plan-optimal-control.json",
+        "plan-optimal-control-tracked.json",
+    ]
     pictures = ["profiles.png", "tool_speed.png", "tracking.png"] if HAVE_MATPLOTLIB else []
     for name in [*pictures, *plans]:
         assert (out_dir / name).stat().st_size > 1000, name
         assert name in text.split("open next")[1]
     assert "README.md" in text and "notebooks/02_pool_strike.ipynb" in text
-    for name, status in (("plan-optimal-control-tracked.json", 0), ("plan-seed.json", 1)):
+    for name, status in (("plan-optimal-control-tracked.json", 0), ("plan-pull-back.json", 1)):
         out = io.StringIO()
         assert main(["check", str(out_dir / name)], out=out) == status
         assert "problem pool-shot" in out.getvalue()
@@ -290,7 +294,7 @@ PLAN = ["plan", "sawyer", "--problem", "pool-shot", "--planner"]
         (["plan", "sawer", "--problem", "pool-shot", "--planner", "ruckig"],
          "unknown robot 'sawer'; known: paddle4, sawyer"),
         ([*PLAN, "fastest"],
-         "unknown planner for pool-shot 'fastest'; known: seed, cubic, quintic, lspb, toppra, "
+         "unknown planner for pool-shot 'fastest'; known: pull-back, cubic, quintic, lspb, toppra, "
          "ruckig, optimal-control, optimal-control-jerk"),
         (["plan", "sawyer", "--problem", "pool", "--planner", "ruckig"],
          "unknown problem 'pool'; known: pool-shot, paddle-strike, pick-and-place, "
@@ -298,8 +302,8 @@ PLAN = ["plan", "sawyer", "--problem", "pool-shot", "--planner"]
         (["plan", "youbot", "--problem", "pool-shot", "--planner", "ruckig"],
          "problem 'pool-shot' is for robot 'sawyer', not 'youbot'; problems for youbot: "
          "pick-and-place, point-to-point"),
-        (["plan", "sawyer", "--problem", "point-to-point", "--planner", "seed"],
-         "unknown planner for point-to-point 'seed'; known: cubic,"),
+        (["plan", "sawyer", "--problem", "point-to-point", "--planner", "pull-back"],
+         "unknown planner for point-to-point 'pull-back'; known: cubic,"),
         ([*PLAN, "ruckig", "--q-goal", "0"],
          "--q-goal does not apply to problem 'pool-shot'"),
         (["plan", "sawyer", "--problem", "point-to-point", "--planner", "cubic", "--q-goal", "1"],

@@ -21,7 +21,8 @@ def test_short_reason_keeps_the_class_and_the_first_clause():
 
 
 def test_labels_say_what_a_planner_does():
-    assert planner_label("seed", planners.SeedStrike()) == "pull-back + constant-speed strike"
+    label = planner_label("pull-back", planners.PullBackStrike())
+    assert label == "pull-back + constant-speed strike"
     assert planner_label("cubic", planners.Cubic()) == planners.Cubic().name
 
 
@@ -34,9 +35,9 @@ def _refusal(speed: float) -> InfeasibleError:
 
 def test_planners_refused_for_one_reason_share_one_line():
     shot = problems.sawyer_pool_shot(speed=0.3)
-    seed = planners.SeedStrike().plan(shot)
+    seed = planners.PullBackStrike().plan(shot)
     attempts = [
-        Attempt("seed", "pull-back + constant-speed strike", seed, planners.check(seed, shot)),
+        Attempt("pull-back", "pull-back + constant-speed strike", seed, planners.check(seed, shot)),
         Attempt("cubic", "cubic strike", error=_refusal(1.0)),
         Attempt("ruckig", "ruckig strike", error=_refusal(1.0)),
         Attempt("lspb", "lspb strike", error=_refusal(2.0)),

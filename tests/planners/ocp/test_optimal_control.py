@@ -182,7 +182,7 @@ def test_paddle_strikes_pass_the_checker():
             continue
         report = check(traj, problem)
         assert report.ok, report.summary()
-        if problem.speed == 0.0:  # the seed's task: at the ball at rest after exactly T
+        if problem.speed == 0.0:  # the ECE486 task: at the ball at rest after exactly T
             assert traj.duration == pytest.approx(problem.contact_time, abs=1e-9)
 
 

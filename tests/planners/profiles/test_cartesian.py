@@ -1,4 +1,4 @@
-"""Tests of planners.profiles.cartesian: straight lines with SLERP, the seed's LinearTrajectory."""
+"""Tests of planners.profiles.cartesian: straight lines with SLERP, LinearTrajectory."""
 
 from __future__ import annotations
 
@@ -158,10 +158,10 @@ def test_bad_settings_are_rejected():
     with pytest.raises(InvalidInputError, match="samples"):
         CartesianStraightLine(samples=3)
     with pytest.raises(InvalidInputError, match="CartesianLine"):
-        CartesianStraightLine().plan(problems.seed_paddle_strike())
+        CartesianStraightLine().plan(problems.ece486_paddle_strike())
 
 
-# ---------------------------------------------------------------- the seed's LinearTrajectory
+# ------------------------------------------------------------- the pull-back LinearTrajectory
 
 
 def test_linear_trajectory_has_the_seed_semantics():

@@ -41,7 +41,7 @@ def _sides(traj):
 
 
 def test_seed_cruise_time_gives_half_the_displacement_per_second():
-    # ECE486 seed: T = 3 s, tc = 1 s, so tb = 1 s and v = 2 delta / (3 + 1) exactly.
+    # ECE486 task: T = 3 s, tc = 1 s, so tb = 1 s and v = 2 delta / (3 + 1) exactly.
     delta = np.array([0.45, -0.3911, 0.9985, 0.3911, 0.0])
     timing = lspb_fixed_cruise(delta, 3.0, 1.0)
     np.testing.assert_array_equal(timing.velocity, 2.0 * delta / 4.0)

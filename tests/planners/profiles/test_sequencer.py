@@ -30,4 +30,4 @@ def test_rejects_bad_profile_and_problem():
     with pytest.raises(InvalidInputError, match="JointProfile"):
         PickAndPlacePlanner("quintic")  # type: ignore[arg-type]
     with pytest.raises(InvalidInputError, match="PickAndPlace"):
-        PickAndPlacePlanner().plan(problems.seed_paddle_strike())
+        PickAndPlacePlanner().plan(problems.ece486_paddle_strike())

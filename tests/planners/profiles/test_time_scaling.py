@@ -18,14 +18,14 @@ from optraj.planners.profiles.time_scaling import (
     worst_rate_limit,
 )
 
-# ECE486 seed, ball (1.1, 0.8, 0.7), T = 2 s, 5 Hz: the printed rows at t = 0.2, 0.4, 1.0, 1.8 s.
-SEED_ROWS = {
+# ECE486 task, ball (1.1, 0.8, 0.7), T = 2 s, 5 Hz: the printed rows at t = 0.2, 0.4, 1.0, 1.8 s.
+ECE486_ROWS = {
     0.2: [0.4626, 0.0110, 0.0280, -0.0110],
     0.4: [0.4968, 0.0407, 0.1038, -0.0407],
     1.0: [0.6750, 0.1956, 0.4992, -0.1956],
     1.8: [0.8874, 0.3802, 0.9705, -0.3802],
 }
-SEED_GOALS = {
+ECE486_GOALS = {
     (1.1, 0.8, 0.7): [0.9000, 0.3911, 0.9985, -0.3911],
     (1.1, -0.8, 0.7): [0.9000, -0.3911, 0.9985, 0.3911],
     (1.1, -0.8, -0.1): [0.1000, -0.3911, 0.9985, 0.3911],
@@ -35,22 +35,22 @@ HOME = np.array([0.45, 0.0, 0.0, 0.0])
 
 
 def test_seed_table_first_corner_rows():
-    traj = Cubic().plan(problems.seed_paddle_strike((1.1, 0.8, 0.7)))
+    traj = Cubic().plan(problems.ece486_paddle_strike((1.1, 0.8, 0.7)))
     times = np.arange(0.0, 2.0 + 1e-9, 0.2)  # t = 0 .. T at f = 5 Hz: 11 rows
     rows = traj.sample(times).q
     assert rows.shape == (11, 4)
     np.testing.assert_allclose(rows[0], HOME, atol=1e-12)
-    np.testing.assert_allclose(rows[-1], SEED_GOALS[(1.1, 0.8, 0.7)], atol=1e-4)
-    for t, expected in SEED_ROWS.items():
+    np.testing.assert_allclose(rows[-1], ECE486_GOALS[(1.1, 0.8, 0.7)], atol=1e-4)
+    for t, expected in ECE486_ROWS.items():
         np.testing.assert_allclose(traj.sample(t).q, expected, atol=1e-4)
 
 
-@pytest.mark.parametrize("ball", list(SEED_GOALS)[1:])
+@pytest.mark.parametrize("ball", list(ECE486_GOALS)[1:])
 def test_seed_table_other_corners(ball):
-    # The seed's scaling values s(t) read off its first-corner table (joint 2 / its goal).
-    traj = Cubic().plan(problems.seed_paddle_strike(ball))
-    goal = np.array(SEED_GOALS[ball])
-    for t, row in SEED_ROWS.items():
+    # The ECE486 scaling values s(t) read off its first-corner table (joint 2 / its goal).
+    traj = Cubic().plan(problems.ece486_paddle_strike(ball))
+    goal = np.array(ECE486_GOALS[ball])
+    for t, row in ECE486_ROWS.items():
         s = row[1] / 0.3911
         np.testing.assert_allclose(traj.sample(t).q, HOME + s * (goal - HOME), atol=2e-4)
     np.testing.assert_allclose(traj.sample(2.0).q, goal, atol=1e-4)
@@ -149,8 +149,8 @@ def test_paddle_strike_at_speed_meets_the_ball_and_stops():
     assert [p.name for p in traj.phases] == ["approach", "stop"]
 
 
-def test_seed_paddle_strike_passes_the_checker():
-    problem = problems.seed_paddle_strike()
+def test_ece486_paddle_strike_passes_the_checker():
+    problem = problems.ece486_paddle_strike()
     report = check(
         Cubic().plan(problem), problem, quantities=("position", "velocity", "acceleration")
     )

@@ -190,7 +190,7 @@ def test_bad_inputs_raise_typed_errors():
     with pytest.raises(InvalidInputError, match="samples"):
         ClassicStrike(samples=2)
     with pytest.raises(InvalidInputError, match="PoolStrike"):
-        ClassicStrike().plan(problems.seed_paddle_strike())  # type: ignore[arg-type]
+        ClassicStrike().plan(problems.ece486_paddle_strike())  # type: ignore[arg-type]
     assert ClassicStrike("quintic").name == "quintic strike"
 
 

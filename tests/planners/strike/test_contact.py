@@ -77,7 +77,7 @@ def test_contact_choices_are_distinct_branches_led_by_the_chosen_one():
         np.testing.assert_allclose(axis, problem.direction, atol=1e-6)
     for a, b in itertools.combinations(choices, 2):
         assert np.abs(a.q - b.q).max() > 0.1
-    paddle = problems.seed_paddle_strike()
+    paddle = problems.ece486_paddle_strike()
     assert len(contact_choices(paddle, 3)) == 1
     with pytest.raises(InvalidInputError, match="count"):
         contact_choices(problem, 0)

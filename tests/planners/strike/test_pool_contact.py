@@ -166,7 +166,7 @@ def test_contact_near_declines_a_strike_without_room_and_bad_input():
     with pytest.raises(InvalidInputError, match="q must have shape"):
         contact_near(problem, choice.q[:3])
     with pytest.raises(InvalidInputError, match="PoolStrike"):
-        contact_near(problems.seed_paddle_strike(), choice.q)
+        contact_near(problems.ece486_paddle_strike(), choice.q)
     beyond = choice.q.copy()
     beyond[1] = problem.limits.upper[1] + 0.5
     with pytest.raises(JointLimitError, match="contact_near q: joint 'right_j1'") as info:

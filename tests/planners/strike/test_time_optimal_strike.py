@@ -76,7 +76,7 @@ def test_toppra_approach_enters_at_speed_with_an_acceleration_step():
 @pytest.mark.parametrize("approach", ["ruckig", "toppra"])
 def test_paddle_strike_at_speed_meets_ball_on_time(approach):
     problem = problems.PaddleStrike(
-        problems.seed_paddle_strike().robot, ball=(1.0, 0.3, 0.4), speed=0.5, contact_time=2.0
+        problems.ece486_paddle_strike().robot, ball=(1.0, 0.3, 0.4), speed=0.5, contact_time=2.0
     )
     traj = TimeOptimalStrike(approach).plan(problem)
     quantities = ALL if approach == "ruckig" else ("position", "velocity", "acceleration")
@@ -85,8 +85,8 @@ def test_paddle_strike_at_speed_meets_ball_on_time(approach):
     assert traj.phase("approach").t_end == pytest.approx(2.0)
 
 
-def test_seed_paddle_strike_with_toppra_waits_then_arrives_at_rest():
-    problem = problems.seed_paddle_strike()
+def test_ece486_paddle_strike_with_toppra_waits_then_arrives_at_rest():
+    problem = problems.ece486_paddle_strike()
     traj = TimeOptimalStrike("toppra").plan(problem)
     report = check(traj, problem, quantities=("position", "velocity", "acceleration"))
     assert report.ok, report.summary()
@@ -95,7 +95,7 @@ def test_seed_paddle_strike_with_toppra_waits_then_arrives_at_rest():
 
 def test_contact_time_too_short_is_infeasible():
     problem = problems.PaddleStrike(
-        problems.seed_paddle_strike().robot, ball=(1.1, 0.8, 0.7), contact_time=0.1
+        problems.ece486_paddle_strike().robot, ball=(1.1, 0.8, 0.7), contact_time=0.1
     )
     with pytest.raises(InfeasibleError, match="longer than the contact time"):
         TimeOptimalStrike("ruckig").plan(problem)
@@ -163,4 +163,4 @@ def test_strike_line_names_a_bad_contact_configuration_and_problem():
     with pytest.raises(InvalidInputError, match="q_contact"):
         strike_line(problem, 10, q_contact=np.zeros(3))
     with pytest.raises(InvalidInputError, match="PoolStrike"):
-        strike_line(problems.seed_paddle_strike(), 10)
+        strike_line(problems.ece486_paddle_strike(), 10)

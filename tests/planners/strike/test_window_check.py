@@ -107,7 +107,7 @@ def test_the_window_check_refuses_what_it_cannot_check():
     with pytest.raises(InvalidInputError, match="q_contact"):
         WindowCheck()(problem, np.zeros(3))
     with pytest.raises(InvalidInputError, match="PoolStrike"):
-        WindowCheck()(problems.seed_paddle_strike(), np.zeros(4))
+        WindowCheck()(problems.ece486_paddle_strike(), np.zeros(4))
     with pytest.raises(InvalidInputError, match="intervals"):
         WindowCheck(intervals=1)
 

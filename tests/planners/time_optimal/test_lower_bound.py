@@ -152,7 +152,7 @@ def test_lower_bound_input_errors():
     with pytest.raises(InvalidInputError, match="missing q_goal"):
         lower_bound(q_start=robot.home, limits=limits)
     with pytest.raises(InvalidInputError, match="PointToPoint"):
-        lower_bound(problems.seed_paddle_strike())
+        lower_bound(problems.ece486_paddle_strike())
     with pytest.raises(InvalidInputError, match="shape"):
         lower_bound(q_start=np.zeros(3), q_goal=np.zeros(7), limits=limits)
     qd_goal = np.zeros(7)

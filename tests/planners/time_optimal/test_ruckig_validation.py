@@ -95,7 +95,7 @@ def test_bad_inputs_raise_typed_errors():
     with pytest.raises(InvalidInputError, match="JointLimits"):
         state_to_state(np.zeros(7), None, None, np.ones(7), None, None, robot)
     with pytest.raises(InvalidInputError, match="PointToPoint"):
-        Ruckig().plan(problems.seed_paddle_strike())
+        Ruckig().plan(problems.ece486_paddle_strike())
 
 
 def test_bad_options_raise_typed_errors():

@@ -31,7 +31,7 @@ def test_the_contact_node_is_where_its_phase_ends_or_starts():
 
 
 def test_a_paddle_strike_nlp_has_the_contact_s_velocity_rows_and_parameters():
-    problem = dataclasses.replace(problems.seed_paddle_strike(), speed=0.3)
+    problem = dataclasses.replace(problems.ece486_paddle_strike(), speed=0.3)
     (contact,) = [c for c in problem.constraints() if isinstance(c, ToolContact)]
     built = OptimalControl().build(problem)
     rows = [b - a for name, a, b in built.compiled.groups if name == "contact velocity"]

@@ -1,4 +1,4 @@
-"""Tests of planners.strike.seed_strike: the seed's pull back + constant-velocity line."""
+"""Tests of planners.strike.pull_back_strike: the pull-back + constant-speed strike."""
 
 from __future__ import annotations
 
@@ -8,12 +8,12 @@ import pytest
 from optraj import problems
 from optraj.errors import InvalidInputError
 from optraj.planners.checker import check
-from optraj.planners.strike.seed_strike import SeedStrike
+from optraj.planners.strike.pull_back_strike import PullBackStrike
 
 
-def test_seed_strike_hits_the_line_but_needs_unbounded_acceleration():
+def test_pull_back_strike_hits_the_line_but_needs_unbounded_acceleration():
     problem = problems.sawyer_pool_shot(speed=1.0)
-    traj = SeedStrike().plan(problem)
+    traj = PullBackStrike().plan(problem)
     assert [p.name for p in traj.phases] == ["pull back", "strike", "stop"]
     report = check(traj, problem)
     # On the line, at the speed, through the ball ...
@@ -24,11 +24,11 @@ def test_seed_strike_hits_the_line_but_needs_unbounded_acceleration():
     assert not report.ok
 
 
-def test_seed_strike_rejects_other_problems():
+def test_pull_back_strike_rejects_other_problems():
     with pytest.raises(InvalidInputError, match="PoolStrike"):
-        SeedStrike().plan(problems.seed_paddle_strike())
+        PullBackStrike().plan(problems.ece486_paddle_strike())
     with pytest.raises(InvalidInputError, match="hold_time"):
-        SeedStrike(hold_time=0.0)
+        PullBackStrike(hold_time=0.0)
 
 
 @pytest.mark.parametrize(
@@ -46,4 +46,4 @@ def test_seed_strike_rejects_other_problems():
 def test_bad_settings_are_typed_errors(kwargs, match):
     # issue 32, defect 6: samples=-1 was an IndexError at planning time
     with pytest.raises(InvalidInputError, match=match):
-        SeedStrike(**kwargs)
+        PullBackStrike(**kwargs)

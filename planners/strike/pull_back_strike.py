@@ -1,4 +1,4 @@
-"""The seed documents' pool shot: pull the cue back, then run the constant-velocity line.
+"""The Sawyer pool-cue exercise's shot: pull the cue back, then run the constant-velocity line.
 
 Reproduced as the baseline the other planners are compared with: a cubic joint move from the
 start to the line's entry pose, then :class:`planners.profiles.cartesian.LinearTrajectory` from the
@@ -23,11 +23,11 @@ from optraj.problems.point_to_point import is_still
 from optraj.robots import solve_ik
 from optraj.validation import as_count, as_duration
 
-__all__ = ["SeedStrike"]
+__all__ = ["PullBackStrike"]
 
 
-class SeedStrike:
-    """Plan a :class:`problems.PoolStrike` the way the seed does.
+class PullBackStrike:
+    """Plan a :class:`problems.PoolStrike` the way the Sawyer pool-cue exercise does.
 
     Args:
         pull_back_time: Duration of the pull-back move [s]; the shortest cubic within the
@@ -40,7 +40,7 @@ class SeedStrike:
             or a sample count that is not an integer in range.
     """
 
-    name = "seed (pull back + line)"
+    name = "pull-back + line"
 
     def __init__(
         self, pull_back_time: float | None = None, hold_time: float = 0.2, samples: int = 100
@@ -58,7 +58,7 @@ class SeedStrike:
         """
         if not isinstance(problem, PoolStrike):
             raise InvalidInputError(
-                f"SeedStrike plans a problems.PoolStrike, got {type(problem).__name__}",
+                f"PullBackStrike plans a problems.PoolStrike, got {type(problem).__name__}",
                 name="problem",
             )
         started = time.perf_counter()
