@@ -58,6 +58,24 @@ def test_every_python_block_runs():
     assert qp.metrics.violations["command"].worst <= 1.0
     assert run.metrics.strike.line_max == pytest.approx(4.8e-5, abs=3e-6)
     assert run.metrics.strike.speed_error_max == pytest.approx(0.00069, abs=2e-5)
+    # The export block's comments.
+    best, folder = namespace["best"], namespace["folder"]
+    rows_written = (folder / "shot.csv").read_text().splitlines()
+    assert len(rows_written) == 1 + (int(best.duration * 500) + 1) + 1  # header, k/500 s, end
+    again = namespace["again"]
+    np.testing.assert_allclose(again.sample(0.5).q, best.sample(0.5).q, atol=1e-6)
+    assert [p["time_from_start"] for p in namespace["message"]["points"][:2]] == [
+        {"sec": 0, "nanosec": 0},
+        {"sec": 0, "nanosec": 10_000_000},
+    ]
+    assert "joint_names:" in namespace["yaml_text"]
+    held = best.sample(best.duration + 1.0, hold=True)
+    np.testing.assert_allclose(held.q, best.sample(best.duration).q)
+    assert not held.qd.any()
+    tg = namespace["tg"]
+    assert tg.q.shape == tg.qd.shape == (101, 2) and tg.trajectory.duration == 2.0
+    assert namespace["arrays"].trapezoidal(0.0, 1.0, 51, V=0.03).qd.max() == pytest.approx(0.03)
+    np.testing.assert_allclose(namespace["moves"].arrive, [2.1, 4.3])
     # The MuJoCo block's comments.
     ball, alone = namespace["ball"], namespace["alone"]
     assert ball.within and alone.within
