@@ -77,6 +77,12 @@ class MeshcatViewer:
         """The live viewer's address (loopback), while the server runs."""
         return str(self._vis.url())
 
+    @property
+    def running(self) -> bool:
+        """Whether the server process is alive."""
+        process = getattr(self._vis.window, "server_proc", None)
+        return process is not None and process.poll() is None
+
     def show(self, scene: Scene) -> None:
         """Replace what is drawn by ``scene``: robot, shapes, camera and animation.
 

@@ -51,7 +51,7 @@ CAMERA_DISTANCE = 1.2
 TASK_VIEWS = {
     PoolStrike: (np.array([-0.2, -1.0, 0.75]), 1.3),
     PaddleStrike: (np.array([-0.5, -1.0, 0.5]), 0.8),
-    PickAndPlace: (np.array([1.0, -0.8, 0.9]), 1.5),
+    PickAndPlace: (np.array([1.0, -0.8, 0.9]), 1.0),
 }
 #: The floor stays this far below the lowest tool point and object centre [m].
 FLOOR_MARGIN = 0.01

@@ -62,11 +62,10 @@ def test_paddle_and_youbot_pages(viewer, case, expected):
 def test_a_still_scene_has_no_animation_and_a_closed_viewer_stops_its_server():
     problem, traj = youbot_case()
     with MeshcatViewer() as viewer:
-        process = viewer._vis.window.server_proc
-        assert process.poll() is None and viewer.url.startswith("http://127.0.0.1:")
+        assert viewer.running and viewer.url.startswith("http://127.0.0.1:")
         viewer.show(build_scene(problem.robot, traj, problem, at=1.0))
         page = viewer.static_html()
-    assert process.poll() is not None
+    assert not viewer.running
     assert animated_paths(page) == set()
     assert f"{SCENE}/block_0" in object_paths(page)
     with pytest.raises(OptrajError, match="closed"):
