@@ -74,8 +74,13 @@ def write_html(
 
     Raises:
         MissingDependencyError: meshcat is not installed.
-        InvalidInputError: A folder that does not exist, or as :func:`optraj.viz.build_scene`.
+        InvalidInputError: A path that is not a str or Path, a folder that does not exist, or
+            as :func:`optraj.viz.build_scene`.
     """
+    if not isinstance(path, (str, Path)):
+        raise InvalidInputError(
+            f"path must be a str or pathlib.Path, got {type(path).__name__}", name="path"
+        )
     target = Path(path)
     if not target.parent.is_dir():
         raise InvalidInputError(

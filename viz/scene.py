@@ -47,10 +47,10 @@ MAX_FRAMES = 3000
 CAMERA_DIRECTION = np.array([0.55, -1.0, 0.55])
 CAMERA_DISTANCE = 1.2
 #: Per task: the pool shot from the robot's right, behind the cue; the paddle from its
-#: right, a little behind; the blocks from the front right.
+#: right, a little ahead (ball and blade both in sight); the blocks from the front right.
 TASK_VIEWS = {
     PoolStrike: (np.array([-0.2, -1.0, 0.75]), 1.3),
-    PaddleStrike: (np.array([-0.5, -1.0, 0.5]), 0.8),
+    PaddleStrike: (np.array([0.35, -1.0, 0.45]), 0.8),
     PickAndPlace: (np.array([1.0, -0.8, 0.9]), 1.0),
 }
 #: The floor stays this far below the lowest tool point and object centre [m].

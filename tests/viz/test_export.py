@@ -36,6 +36,8 @@ def test_iframe_escapes_the_page():
 
 def test_bad_path_height_and_missing_meshcat_are_typed_errors(tmp_path, monkeypatch):
     shot, traj = pool_case()
+    with pytest.raises(InvalidInputError, match="path must be a str"):
+        write_html(3, shot.robot, traj, shot)
     with pytest.raises(InvalidInputError, match="does not exist"):
         write_html(tmp_path / "nowhere" / "shot.html", shot.robot, traj, shot)
     with pytest.raises(InvalidInputError, match="height"):
