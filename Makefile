@@ -5,6 +5,9 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 PEERS  := $(VENV)/.peers
+# setuptools prints a notice about editable installs that concerns folders named as the
+# package; optraj's folders are the package (pyproject.toml's package-dir), so it is hidden.
+QUIET  := PYTHONWARNINGS="ignore:Editable installation"
 
 .PHONY: demo test bench fuzz lint clean
 
@@ -13,7 +16,7 @@ $(BIN)/python:
 	$(BIN)/python -m pip install --quiet --upgrade pip
 
 $(STAMP): pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e '.[test,examples,sweeps,viz]'
+	$(QUIET) $(BIN)/python -m pip install --quiet -e '.[test,examples,sweeps,viz]'
 	touch $(STAMP)
 
 demo: $(STAMP)
@@ -27,7 +30,7 @@ test: $(STAMP)
 
 # The peers that benchmarks/peers.py times optraj against; only `make bench` needs them.
 $(PEERS): pyproject.toml $(STAMP)
-	$(BIN)/python -m pip install --quiet -e '.[peers]'
+	$(QUIET) $(BIN)/python -m pip install --quiet -e '.[peers]'
 	touch $(PEERS)
 
 bench: $(STAMP) $(PEERS)

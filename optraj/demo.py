@@ -166,10 +166,18 @@ def _write_files(
 def viewer_file(out_dir: Path, problem: Any, traj: Any, outcome: Any) -> Path | None:
     """Write the 3-D view of the shot (a self-contained HTML file) and return its path.
 
-    The hook for the viewer: the robot with its cue, the table, the ball and its path,
-    animated along ``traj``. Returns None while optraj has no viewer (nothing is written).
+    The robot with its cue, the table, the ball and its path, animated along ``traj``
+    (:func:`optraj.viz.write_html`). Returns None, writing nothing, when the ``viz`` extra
+    (meshcat) is not installed.
     """
-    return None
+    from optraj import viz
+
+    try:
+        return viz.write_html(
+            out_dir / "pool-shot.html", problem.robot, traj, problem=problem, outcome=outcome
+        )
+    except MissingDependencyError:
+        return None
 
 
 def _next_files(out_dir: Path, written: list[Path], out: TextIO) -> None:
@@ -185,7 +193,8 @@ def _next_files(out_dir: Path, written: list[Path], out: TextIO) -> None:
     if plans:
         out.write(f"  plans, to check again with optraj check FILE: {', '.join(plans)}\n")
     out.write(
-        "  README.md: 'A short tour', 'Tracking', 'Where the ball goes: MuJoCo', 'Results'\n"
+        "  README.md: 'A short tour', 'Using a trajectory', 'Where the ball goes: MuJoCo', "
+        "'A 3-D view', 'Results'\n"
         "  notebooks/01_profiles.ipynb, notebooks/02_pool_strike.ipynb, "
         "notebooks/03_paddle_and_pick.ipynb\n"
         "  the robots' joints and limits: optraj robots NAME\n"

@@ -16,7 +16,7 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("robots", "problems", "planners", "controllers", "physics", "sweeps")
+PACKAGES = ("robots", "problems", "planners", "controllers", "physics", "sweeps", "viz")
 
 
 def main() -> int:

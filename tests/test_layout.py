@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-ORDER = ["robots", "problems", "planners", "controllers", "physics", "sweeps"]
+ORDER = ["robots", "problems", "planners", "controllers", "physics", "sweeps", "viz"]
 BASE = {"optraj.errors", "optraj.validation"}
 OURS = {"optraj", *ORDER}
 

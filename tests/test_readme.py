@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from viz_support import object_paths
 
 from optraj import robots
 from optraj.errors import UnknownNameError, WorkspaceError
@@ -76,6 +77,11 @@ def test_every_python_block_runs():
     assert tg.q.shape == tg.qd.shape == (101, 2) and tg.trajectory.duration == 2.0
     assert namespace["arrays"].trapezoidal(0.0, 1.0, 51, V=0.03).qd.max() == pytest.approx(0.03)
     np.testing.assert_allclose(namespace["moves"].arrive, [2.1, 4.3])
+    # The viewer block: one page with the robot's cue, the table and the ball's path.
+    page = namespace["page"].read_text()
+    assert "MeshCat.Viewer" in page
+    for name in ("robot/visuals/tool/cue", "scene/table/cloth", "scene/ball_path/0"):
+        assert f"/meshcat/optraj/{name}" in object_paths(page), name
     # The MuJoCo block's comments.
     ball, alone = namespace["ball"], namespace["alone"]
     assert ball.within and alone.within

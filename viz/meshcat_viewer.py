@@ -49,7 +49,7 @@ def import_meshcat() -> Any:
         MissingDependencyError: meshcat is not installed; names the ``viz`` extra.
     """
     try:
-        import meshcat  # type: ignore[import-untyped]
+        import meshcat
     except ImportError as exc:
         raise MissingDependencyError("meshcat", "viz", "the 3-D viewer (optraj.viz)") from exc
     return meshcat
@@ -89,7 +89,7 @@ class MeshcatViewer:
         A still scene (one frame) gets no animation.
         """
         self._require_open()
-        from meshcat.animation import Animation  # type: ignore[import-untyped]
+        from meshcat.animation import Animation
         from pinocchio.visualize import MeshcatVisualizer
 
         vis = self._vis
@@ -151,7 +151,7 @@ class MeshcatViewer:
 
 
 def _draw(node: Any, shape: Shape) -> None:
-    import meshcat.geometry as mg  # type: ignore[import-untyped]
+    import meshcat.geometry as mg
     from pinocchio.visualize.meshcat_visualizer import createCapsule
 
     r, g, b, a = shape.rgba

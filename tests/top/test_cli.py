@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from conftest import get_robot
+from viz_support import object_paths
 
 import optraj.cli
 import optraj.demo
@@ -22,6 +23,11 @@ try:
     import matplotlib  # noqa: F401
 except ImportError:  # pragma: no cover - depends on the environment
     HAVE_MATPLOTLIB = False
+HAVE_MESHCAT = True
+try:
+    import meshcat  # noqa: F401
+except ImportError:  # pragma: no cover - depends on the environment
+    HAVE_MESHCAT = False
 
 
 @pytest.fixture(scope="module")
@@ -169,6 +175,12 @@ def test_demo_writes_plots_and_plans_that_check(demo, capsys):
         assert (out_dir / name).stat().st_size > 1000, name
         assert name in text.split("open next")[1]
     assert "README.md" in text and "notebooks/02_pool_strike.ipynb" in text
+    page = out_dir / "pool-shot.html"
+    assert page.exists() == HAVE_MESHCAT == ("pool-shot.html" in text)
+    if HAVE_MESHCAT:
+        drawn = object_paths(page.read_text())
+        scene = {"/meshcat/optraj/scene/ball", "/meshcat/optraj/scene/table/cloth"}
+        assert scene <= drawn and "/meshcat/optraj/robot/visuals/tool/cue" in drawn
     for name, status in (("plan-optimal-control-tracked.json", 0), ("plan-pull-back.json", 1)):
         out = io.StringIO()
         assert main(["check", str(out_dir / name)], out=out) == status
