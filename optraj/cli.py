@@ -42,7 +42,7 @@ __all__ = [
 
 from optraj.cli_errors import error_line, option_flags
 from optraj.cli_map import add_map_parser
-from optraj.cli_output import add_output_options, output_file, write_output
+from optraj.cli_output import add_output_options, output_file, output_folder, write_output
 from optraj.cli_problems import PROBLEMS, build_problem, check_fit, joint_words
 from optraj.cli_robots import add_robots_parser
 
@@ -276,14 +276,7 @@ def _bench_folder(given: str | None) -> Path:
 
     if given is None:
         return Path(tempfile.mkdtemp(prefix="optraj-bench-"))
-    folder = Path(given).resolve()
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InvalidInputError(
-            f"cannot create the output folder {given!r}: {exc.strerror or exc}", name="out"
-        ) from exc
-    return folder
+    return output_folder(given)
 
 
 def _cmd_bench(args: argparse.Namespace, out: TextIO) -> int:

@@ -22,6 +22,7 @@ __all__ = [
     "OutputFile",
     "add_output_options",
     "output_file",
+    "output_folder",
     "write_output",
 ]
 
@@ -118,3 +119,19 @@ def write_output(traj: Any, output: OutputFile, robot: Any) -> str:
         traj.to_ros_yaml(path, rate=output.rate, robot=robot)
         rows = "a ROS 2 JointTrajectory with efforts"
     return f"Wrote {path} ({rows}, at {output.rate:g} Hz)"
+
+
+def output_folder(folder: str | Path) -> Path:
+    """``folder`` (the ``--out`` option), created with its parents if needed.
+
+    Raises:
+        InvalidInputError: The folder cannot be created (the message names ``--out``).
+    """
+    path = Path(folder).resolve()
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InvalidInputError(
+            f"cannot create the output folder {str(folder)!r}: {exc.strerror or exc}", name="out"
+        ) from exc
+    return path

@@ -18,6 +18,7 @@ import sys
 from pathlib import Path
 from typing import Any, TextIO
 
+from optraj.cli_output import output_folder
 from optraj.demo_shot import (
     ball_section,
     plan_every_planner,
@@ -25,7 +26,7 @@ from optraj.demo_shot import (
     short_reason,
     tracking_section,
 )
-from optraj.errors import InvalidInputError, MissingDependencyError
+from optraj.errors import MissingDependencyError
 
 __all__ = ["Progress", "run", "short_reason", "viewer_file", "write_plots"]
 
@@ -68,7 +69,7 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     """Run the whole demo; returns the exit status."""
     from optraj import problems
 
-    out_dir = _output_folder(Path(args.out))
+    out_dir = output_folder(args.out)
     progress = Progress()
     try:
         problem = problems.sawyer_pool_shot(speed=SHOT_SPEED)
@@ -89,16 +90,6 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
         progress.done()
     _next_files(out_dir, written, out)
     return 0
-
-
-def _output_folder(folder: Path) -> Path:
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InvalidInputError(
-            f"cannot create the output directory {str(folder)!r}: {exc.strerror}", name="out"
-        ) from exc
-    return folder
 
 
 def _other_tasks(progress: Any, out: TextIO) -> None:

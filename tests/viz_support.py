@@ -22,7 +22,7 @@ def pool_case() -> tuple[problems.PoolStrike, planners.Trajectory]:
 
 def paddle_case() -> tuple[problems.PaddleStrike, planners.Trajectory]:
     """The ECE486 paddle task and its cubic plan."""
-    problem = problems.seed_paddle_strike()
+    problem = problems.ece486_paddle_strike()
     return problem, planners.Cubic().plan(problem)
 
 

@@ -526,7 +526,7 @@ def test_bench_refuses_an_out_folder_it_cannot_make(tmp_path, capsys):
         (["plan", "sawyer", "--problem", "point-to-point", "--planner", "cubic", "--q-goal", "9",
           "9", "9", "9", "9", "9", "9"], "argument --q-goal: joint 'right_j1' position 9 rad"),
         (["check", "t.json", "--robot", "nope"], "argument --robot: unknown robot 'nope'"),
-        (["demo", "--out", "t.json/x"], "argument --out: cannot create the output directory"),
+        (["demo", "--out", "t.json/x"], "argument --out: cannot create the output folder"),
         (["map", "sawyer", "--speeds", "-1"], "argument --speeds: speeds must be > 0 m/s"),
         (["map", "sawyer", "--grid", "0x0"], "argument --grid: grid must be an integer >= 1"),
         (["map", "sawyer", "--time-limit", "-1"], "argument --time-limit: time_limit must be"),
