@@ -8,7 +8,9 @@ pointing at another Python cannot be picked up. The kernel finds the packages on
 
 The notebooks are stored with their outputs, so that they read without running them; the
 outputs are kept small (PNG figures at 80 dpi). ``python tests/test_notebooks.py`` executes
-every notebook the same way and stores it with its new outputs.
+every notebook the same way and stores it with its new outputs, except the cells tagged
+``viewer``: their output, a 3-D viewer page of several MB, is run and tested here but stored
+empty (the Markdown cell above each shows a still of it).
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from __future__ import annotations
 import base64
 import json
 import os
+import re
 import sys
 import tempfile
 import time
@@ -34,6 +37,10 @@ PROBE = "import sys\nprint(sys.executable, end='')"
 #: Largest stored figure [bytes] and largest stored notebook [bytes].
 MAX_FIGURE = 120_000
 MAX_NOTEBOOK = 600_000
+#: The tag of cells whose output is a 3-D viewer page: executed and tested, never stored.
+VIEWER_TAG = "viewer"
+#: Tagged cells per notebook.
+VIEWERS = {"01_profiles.ipynb": 0, "02_pool_strike.ipynb": 1, "03_paddle_and_pick.ipynb": 1}
 
 
 def kernel_environment(directory: Path) -> dict[str, str]:
@@ -85,6 +92,42 @@ def _errors(nb: nbformat.NotebookNode) -> list[str]:
     ]
 
 
+def viewer_cells(nb: nbformat.NotebookNode) -> list[int]:
+    """Indices of the cells tagged ``viewer``."""
+    return [k for k, cell in enumerate(nb.cells) if VIEWER_TAG in cell.metadata.get("tags", [])]
+
+
+def clear_viewers(nb: nbformat.NotebookNode) -> None:
+    """Drop the outputs of the viewer cells, keeping their execution counts."""
+    for index in viewer_cells(nb):
+        nb.cells[index].outputs = []
+
+
+def still_image(nb: nbformat.NotebookNode, index: int) -> Path | None:
+    """The picture the Markdown cell above cell ``index`` embeds, as a path; None if none."""
+    above = nb.cells[index - 1] if index > 0 else None
+    if above is None or above.cell_type != "markdown":
+        return None
+    found = re.search(r"!\[[^\]]*\]\(([^)\s]+\.png)\)", above.source)
+    return (ROOT / "notebooks" / found.group(1)).resolve() if found else None
+
+
+def viewer_page_problems(cell: nbformat.NotebookNode) -> list[str]:
+    """What is wrong with an executed viewer cell's output (empty when it is one viewer page)."""
+    html = [
+        output.data["text/html"] for output in cell.outputs if "text/html" in output.get("data", {})
+    ]
+    if len(html) != 1:
+        return [f"{len(html)} HTML outputs, expected 1"]
+    page = html[0]
+    expected = (
+        '<div style="width: 100%"><iframe srcdoc="',
+        "&lt;!DOCTYPE html&gt;",
+        "MeshCat.Viewer",
+    )
+    return [f"no {text!r} in the output" for text in expected if text not in page]
+
+
 @pytest.mark.parametrize("name", NOTEBOOKS)
 @pytest.mark.slow
 def test_notebook_runs_without_errors_within_budget(name, kernel_env):
@@ -97,6 +140,11 @@ def test_notebook_runs_without_errors_within_budget(name, kernel_env):
     probe = "".join(output.get("text", "") for output in nb.cells[-1].outputs)
     assert probe == sys.executable, f"the kernel ran {probe!r}, pytest runs {sys.executable!r}"
     assert elapsed < BUDGET, f"{name} took {elapsed:.1f} s, the budget is {BUDGET:.0f} s"
+    viewers = viewer_cells(nb)
+    assert len(viewers) == VIEWERS[name], f"{name}: viewer cells {viewers}"
+    for index in viewers:
+        problems = viewer_page_problems(nb.cells[index])
+        assert not problems, f"{name} cell {index}: {problems}"
 
 
 @pytest.mark.parametrize("name", NOTEBOOKS)
@@ -114,8 +162,14 @@ def test_committed_notebook_is_stored_executed_and_small(name):
         "run python tests/test_notebooks.py"
     )
     assert not _errors(nb), _errors(nb)
+    viewers = viewer_cells(nb)
+    assert len(viewers) == VIEWERS[name], f"{name}: viewer cells {viewers}"
     for index, cell in enumerate(nb.cells):
         assert "execution" not in cell.metadata, f"{name} cell {index} keeps timing metadata"
+        if index in viewers:
+            assert not cell.outputs, f"{name} cell {index} stores a viewer page; clear it"
+            image = still_image(nb, index)
+            assert image is not None and image.is_file(), f"{name} cell {index}: no still above"
         for output in cell.get("outputs", []):
             data = output.get("data", {})
             assert not any(kind.startswith("image/") and kind != "image/png" for kind in data)
@@ -123,6 +177,25 @@ def test_committed_notebook_is_stored_executed_and_small(name):
                 size = len(base64.b64decode(data["image/png"]))
                 assert size <= MAX_FIGURE, f"{name} cell {index}: a {size} byte figure"
     assert path.stat().st_size <= MAX_NOTEBOOK, f"{name} is {path.stat().st_size} bytes"
+
+
+def test_clear_viewers_empties_only_the_tagged_cells_and_a_page_is_recognised():
+    page = {
+        "text/html": '<div style="width: 100%"><iframe srcdoc="&lt;!DOCTYPE html&gt; '
+        'MeshCat.Viewer"></iframe></div>'
+    }
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_code_cell("1"), nbformat.v4.new_code_cell("view()")]
+    nb.cells[1].metadata["tags"] = [VIEWER_TAG]
+    for cell in nb.cells:
+        cell.outputs = [nbformat.v4.new_output("display_data", data=page)]
+    assert viewer_cells(nb) == [1]
+    assert not viewer_page_problems(nb.cells[1])
+    clear_viewers(nb)
+    assert nb.cells[0].outputs and not nb.cells[1].outputs
+    assert viewer_page_problems(nb.cells[1]) == ["0 HTML outputs, expected 1"]
+    nb.cells[1].outputs = [nbformat.v4.new_output("display_data", data={"text/html": "<p>"})]
+    assert len(viewer_page_problems(nb.cells[1])) == 3
 
 
 def test_every_notebook_is_tested():
@@ -138,6 +211,7 @@ def main() -> None:
             nb = nbformat.read(path, as_version=4)
             started = time.perf_counter()
             execute(nb)
+            clear_viewers(nb)
             nbformat.write(nb, path)
             print(f"{name}: executed in {time.perf_counter() - started:.1f} s and stored")
 
