@@ -8,7 +8,7 @@ import sys
 from conftest import get_robot
 
 from optraj import planners, problems
-from optraj.demo import Progress, viewer_file, write_plots
+from optraj.demo import Progress, write_plots
 
 
 class _Terminal(io.StringIO):
@@ -41,9 +41,4 @@ def test_plots_are_skipped_with_one_line_without_matplotlib(monkeypatch, tmp_pat
     assert write_plots(tmp_path, robot, {"ruckig": traj}, [], out) == []
     lines = out.getvalue().strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("plots skipped: matplotlib is not installed")
-    assert list(tmp_path.iterdir()) == []
-
-
-def test_the_viewer_hook_writes_nothing_yet(tmp_path):
-    assert viewer_file(tmp_path, None, None, None) is None
     assert list(tmp_path.iterdir()) == []
