@@ -482,13 +482,15 @@ def _joint_options(plan: argparse.ArgumentParser) -> None:
         "--q-start",
         nargs="+",
         metavar="Q",
-        help="start joint positions [rad or m], one per joint, or a pose name (default home)",
+        help="start joint positions [rad or m], one per joint (spaces or commas), or a pose "
+        "name (default home)",
     )
     joint.add_argument(
         "--q-goal",
         nargs="+",
         metavar="Q",
-        help="goal joint positions [rad or m], one per joint, or a pose name (default home)",
+        help="goal joint positions [rad or m], one per joint (spaces or commas), or a pose name "
+        "(default home)",
     )
     joint.add_argument(
         "--duration",

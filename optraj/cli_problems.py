@@ -69,9 +69,13 @@ def _joint_values(robot: Any, values: Any, option: str) -> list[float]:
 
 
 def joint_words(words: Sequence[str], option: str) -> str | list[float]:
-    """The words given to ``--q-start`` or ``--q-goal``: one pose name, or numbers [rad or m]."""
+    """The words given to ``--q-start`` or ``--q-goal``: one pose name, or numbers [rad or m].
+
+    The numbers may be separate words or separated by commas (``0.1,0.2`` or ``"0.1 0.2"``).
+    """
+    parts = [part for word in words for part in word.replace(",", " ").split()]
     try:
-        return [float(word) for word in words]
+        return [float(part) for part in parts]
     except ValueError:
         if len(words) == 1:
             return words[0]  # a pose name, looked up with the robot

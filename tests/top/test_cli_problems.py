@@ -33,6 +33,8 @@ def test_a_limit_scale_scales_every_limit_and_none_means_the_default():
 def test_pose_names_and_numbers_are_joint_positions():
     assert joint_words(["home"], "--q-goal") == "home"
     assert joint_words(["0.5", "1"], "--q-goal") == [0.5, 1.0]
+    assert joint_words(["0.5,1", "2"], "--q-goal") == [0.5, 1.0, 2.0]
+    assert joint_words(["0.5 1"], "--q-goal") == [0.5, 1.0]
     with pytest.raises(InvalidInputError, match="one pose name"):
         joint_words(["a", "b"], "--q-goal")
     move = build_problem("sawyer", "point-to-point", {"q_goal": "home", "duration": 1.0})
