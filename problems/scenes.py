@@ -5,7 +5,7 @@
   Sawyer's floor; the cue tip may touch the ball.
 * :func:`pick_and_place_scene`: the blocks of a :class:`PickAndPlace` where they are gripped,
   each carried by the tool frame from its grasp to its release, and the work surface they
-  stand on; the gripper may touch a block from its descent onto it until it has left it.
+  stand on; the gripper may touch a block from its descent onto it to its release.
   The pile is the spot on the work surface where the blocks are put (no solid of its own):
   the placed blocks are the pile.
 * :func:`floor`: a half-space below a robot's base.
@@ -136,7 +136,8 @@ def pick_and_place_scene(
     ``2 * block_half_width`` turned as the gripper grips it (its axes those of the tool frame
     at ``q_pick[k]``), and rides with the tool frame from the start of phase ``grasp_<k>`` to
     the end of ``release_<k>`` (the phases of ``planners.PickAndPlacePlanner``). The gripper
-    (``tool/*``) may touch it from ``descend_<k>`` until ``interim_<k+1>`` has lifted it away.
+    (``tool/*``) may touch it from the start of ``descend_<k>`` to the end of ``release_<k>``;
+    the way out after the release is checked (the gripper must leave the block as it came).
     ``work_surface`` is the plane under the lowest block. The blocks may touch each other and
     the work surface (a carried block is checked against the floor only).
 
@@ -161,7 +162,7 @@ def pick_and_place_scene(
         objects.append(Box(name, np.array([half_width, half_width, half_height]), pose))
         attachments.append(Attachment(name, tool, f"grasp_{k}", f"release_{k}"))
         phases = ("descend", "grasp", "back_to_interim", "turn_to_target", "release")
-        during = (*(f"{p}_{k}" for p in phases), f"interim_{k + 1}")
+        during = tuple(f"{p}_{k}" for p in phases)
         allowed.append(AllowedPair("tool/*", name, during))
     lowest = min(float(np.min(picks[:, 2])), float(np.asarray(problem.pile)[2]))
     objects.append(Plane("work_surface", point=np.array([0.0, 0.0, lowest - half_height])))

@@ -12,7 +12,8 @@ Bernstein coefficients. With samples ``d_a``, ``d_b`` ``h`` apart and that speed
 distance between them is at least ``(d_a + d_b - 2 V h) / 2``; an interval whose bound falls
 below the required clearance while its ends do not is halved until it does not (or a sample
 fails). The finding's value is the smallest sampled distance (its pair and time); it passes
-when the bound over the whole trajectory keeps the scene's ``margin``.
+when the bound over the whole trajectory keeps the scene's ``margin`` (its margin is that
+bound less the margin; its ratio, :data:`RATIO_SCALE`).
 
 Example::
 
@@ -35,13 +36,17 @@ from optraj.planners.checker.report import Finding
 from optraj.planners.checker.task import Evaluation, missing_findings, task_finding
 from optraj.problems.scene_distances import SceneCollision
 
-__all__ = ["MAX_HALVINGS", "clearance_check", "joint_reach"]
+__all__ = ["MAX_HALVINGS", "RATIO_SCALE", "clearance_check", "joint_reach"]
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
 
 #: Halvings of one sample interval before its bound is taken as it stands.
 MAX_HALVINGS = 12
+#: The finding's ratio is 1 at the required clearance and grows by 1 for each RATIO_SCALE [m]
+#: (or each required clearance, if larger) the smallest distance falls short of it; 0 when it
+#: is clear by that much or more. Finite even where shapes overlap.
+RATIO_SCALE = 0.01
 
 
 def clearance_check(shapes: SceneCollision, ctx: CheckContext) -> Evaluation:
@@ -106,6 +111,7 @@ class _Run:
         ]
         self.speed = _segment_speeds(ctx, shapes, self.offsets)
         self._cache: dict[tuple[float, bytes], tuple[float, int]] = {}
+        self._released: dict[int, FloatArray] = {}
 
     def _object_pose(self, index: int) -> FloatArray:
         return np.asarray(self.shapes.geometry.geometryObjects[index].placement.homogeneous)
@@ -122,10 +128,15 @@ class _Run:
 
     def mask(self, time: float) -> BoolArray:
         """The pairs checked at ``time`` [s] (off inside a phase that allows them)."""
-        mask = self._all.copy()
+        return self.masks(np.array([time]))[0]
+
+    def masks(self, times: FloatArray) -> BoolArray:
+        """The pairs checked at each of ``times`` [s], shape (m, pairs)."""
+        masks = np.ones((times.size, self._all.size), dtype=bool)
         for k in self._windowed:
-            mask[k] = not any(a <= time <= b for a, b in self.spans[k])
-        return mask
+            for a, b in self.spans[k]:
+                masks[(times >= a) & (times <= b), k] = False
+        return masks
 
     def distance(self, time: float, mask: BoolArray) -> tuple[float, int]:
         """(smallest distance [m], pair index) at ``time`` over the pairs of ``mask``."""
@@ -141,8 +152,12 @@ class _Run:
         for (index, frame), (start, end), offset in zip(
             shapes.attached, self.windows, self.offsets, strict=True
         ):
-            if time >= start:
-                poses[index] = shapes.frame_pose(self._q(min(time, end)), frame) @ offset
+            if time >= end:  # put down: it stays where the frame left it
+                if index not in self._released:
+                    self._released[index] = shapes.frame_pose(self._q(end), frame) @ offset
+                poses[index] = self._released[index]
+            elif time >= start:
+                poses[index] = shapes.frame_pose(self._q(time), frame) @ offset
         shapes.set_active(mask)
         where = shapes.compute(q, poses)
         if not 0 <= where < shapes.pair_count or not mask[where]:
@@ -154,8 +169,8 @@ class _Run:
         best = (math.inf, -1, 0.0)  # distance, pair, time
         bound = math.inf
         segment = dict(zip(times.tolist(), segment_index(self.ctx.knots, times), strict=True))
-        for a, b in itertools.pairwise(times.tolist()):
-            mask = self.mask(0.5 * (a + b))
+        masks = self.masks(0.5 * (times[:-1] + times[1:]))
+        for (a, b), mask in zip(itertools.pairwise(times.tolist()), masks, strict=True):
             speed = 2.0 * float(self.speed[segment[a]])
             low, sampled = self._interval(a, b, mask, speed, required)
             bound = min(bound, low)
@@ -164,9 +179,9 @@ class _Run:
             value, pair = self.distance(float(times[0]), self.mask(float(times[0])))
             best, bound = (value, pair, float(times[0])), value
         value, pair, time = best
-        if pair < 0:
-            detail = "no pair to check"
-            return task_finding("clearance", math.inf, required, None, "m", detail)
+        if pair < 0:  # every pair may touch: nothing can fail
+            finding = task_finding("clearance", math.inf, required, None, "m", "no pair to check")
+            return _with(finding, margin=math.inf, ratio=0.0)
         first, second = self.shapes.pair_names(pair)
         detail = (
             f"{first} to {second}: {value:.4g} m at t = {time:.6g} s; at least {bound:.4g} m "
@@ -174,7 +189,7 @@ class _Run:
         )
         finding = task_finding("clearance", value, required, time, "m", detail)
         margin = min(bound, value) - required
-        ratio = required / value if value > 0.0 else math.inf
+        ratio = max(0.0, 1.0 + (required - value) / max(required, RATIO_SCALE))
         return _with(finding, margin=margin, ratio=ratio)
 
     def _interval(
