@@ -1,8 +1,9 @@
 """The ``clearance`` finding: the smallest distance between every pair that may not touch.
 
 Every pair of :class:`problems.SceneCollision` (robot against scene objects, robot against
-itself; pairs the scene allows during some phases are off in those phases) is measured at
-every sampled instant, with the carried objects moved along with their frame. Between two
+itself, carried objects against the others; pairs the scene allows during some phases are off
+in those phases) is measured at every sampled instant, the carried objects moved with their
+frame from the moment they are taken and left where the frame puts them down. Between two
 samples the distance cannot fall faster than the shapes move apart or together: a point
 carried by joint i's subtree moves at most ``sum_i |qd_i| * r_i`` [m/s], ``r_i`` an upper
 bound of its distance from joint i's origin (the joint offsets down the chain, prismatic
