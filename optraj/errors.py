@@ -14,6 +14,7 @@ from collections.abc import Iterable, Sequence
 
 __all__ = [
     "ClusterError",
+    "CollisionError",
     "CompilerError",
     "InfeasibleError",
     "InvalidInputError",
@@ -322,6 +323,39 @@ class PathJumpError(OptrajError):
             f"the joint solution jumps at t = {time:.4g} s: joint {joint!r} changes by "
             f"{jump:.4g} between neighbouring samples (allowed {threshold:.4g}); the path passes "
             "near a singularity or the IK changed branch"
+        )
+
+
+class CollisionError(OptrajError):
+    """Two shapes that may not touch overlap: a target inside an obstacle, or in the arm.
+
+    Attributes:
+        first: The robot's shape, e.g. ``"tool/finger_left"`` or ``"link_3"``.
+        second: The other shape: a scene object or another robot shape.
+        distance: Their signed distance [m], negative: how deep they overlap.
+        what: The configuration refused, e.g. ``"goal"`` or ``"pick 0"``.
+        point: A witness point on ``first`` [m], world frame, or None.
+    """
+
+    def __init__(
+        self,
+        first: str,
+        second: str,
+        distance: float,
+        *,
+        what: str,
+        point: Sequence[float] | None = None,
+    ) -> None:
+        self.first = first
+        self.second = second
+        self.distance = float(distance)
+        self.what = what
+        self.point = None if point is None else tuple(float(v) for v in point)
+        where = "" if self.point is None else f" at ({', '.join(f'{v:.4g}' for v in self.point)}) m"
+        super().__init__(
+            f"{what} is in collision: {first!r} overlaps {second!r} by {-self.distance * 1e3:.3g} "
+            f"mm{where} (they may not touch; signed distance {self.distance:.4g} m, "
+            "required >= 0 m)"
         )
 
 

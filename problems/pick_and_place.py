@@ -10,6 +10,8 @@ from numpy.typing import NDArray
 from optraj.errors import InvalidInputError, UnreachableError
 from optraj.problems.common import check_robot, joint_state, positive, resolve_limits, unit_vector
 from optraj.problems.constraints import BoundaryState, Constraint, ToolContact
+from optraj.problems.scene import Scene
+from optraj.problems.scene_distances import SceneCollision
 from optraj.robots import JointLimits, Robot, solve_ik
 from optraj.validation import as_array, as_duration, as_vector
 
@@ -50,6 +52,10 @@ class PickAndPlace:
         limits: Limits to plan for; the robot's when None.
         position_tolerance: [m].
         angle_tolerance: [rad].
+        scene: The surroundings (:class:`problems.Scene`, e.g.
+            ``problems.pick_and_place_scene(problem)``) or None (the default: no scene). With
+            one, a grip or release configuration (or the one above it) in collision is refused
+            and ``planners.check`` adds its ``clearance`` finding.
 
     Derived (IK when built, shape (k, n)): ``q_above_pick``, ``q_pick``, ``q_above_place``,
     ``q_place`` [rad].
@@ -67,6 +73,7 @@ class PickAndPlace:
     limits: JointLimits = None  # type: ignore[assignment]  # None: the robot's (__post_init__)
     position_tolerance: float = 1e-6
     angle_tolerance: float = 1e-6
+    scene: Scene | None = None
     q_above_pick: FloatArray = field(init=False, repr=False)
     q_pick: FloatArray = field(init=False, repr=False)
     q_above_place: FloatArray = field(init=False, repr=False)
@@ -107,6 +114,22 @@ class PickAndPlace:
         set_(self, "q_pick", np.array(solutions["p"]))
         set_(self, "q_above_place", np.array(solutions["al"]))
         set_(self, "q_place", np.array(solutions["l"]))
+        if self.scene is not None:
+            self._require_clear()
+
+    def _require_clear(self) -> None:
+        """CollisionError if a target configuration puts the robot inside the scene."""
+        if self.scene is None:
+            return
+        shapes = SceneCollision(self.robot, self.scene)
+        for k in range(self.count):
+            for what, q in (
+                (f"above pick {k}", self.q_above_pick[k]),
+                (f"pick {k}", self.q_pick[k]),
+                (f"above place {k}", self.q_above_place[k]),
+                (f"place {k}", self.q_place[k]),
+            ):
+                shapes.require_clear(q, what)
 
     def _ik(self, point: np.ndarray, q_near: np.ndarray, what: str) -> np.ndarray:
         try:

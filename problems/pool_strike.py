@@ -26,6 +26,8 @@ from optraj.problems.constraints import (
     Constraint,
     StrikeLine,
 )
+from optraj.problems.scene import Scene
+from optraj.problems.scene_distances import SceneCollision
 from optraj.robots import JointLimits, Robot, solve_ik
 from optraj.validation import as_vector
 
@@ -66,6 +68,9 @@ class PoolStrike:
         position_tolerance: Allowed distance from the strike schedule [m].
         speed_tolerance: Allowed relative speed error [-].
         angle_tolerance: Allowed cue axis error [rad].
+        scene: The surroundings (:class:`problems.Scene`, e.g. ``problems.pool_table(ball)``)
+            or None (the default: no scene). With one, a contact configuration in collision
+            is refused and ``planners.check`` adds its ``clearance`` finding.
 
     Derived: ``contact_point``, ``entry_point``, ``exit_point`` [m]; ``window`` (strike
     duration) and ``contact_delay`` [s]; ``q_contact``, an IK solution at contact near q_start
@@ -84,9 +89,17 @@ class PoolStrike:
     position_tolerance: float = STRIKE_POSITION_TOLERANCE
     speed_tolerance: float = STRIKE_SPEED_TOLERANCE
     angle_tolerance: float = STRIKE_ANGLE_TOLERANCE
+    scene: Scene | None = None
     q_contact: FloatArray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
+        """Validate the inputs and find the contact configuration.
+
+        Raises:
+            InvalidInputError: A bad field.
+            UnreachableError: The strike line is out of reach.
+            CollisionError: With a scene, the contact configuration is in collision.
+        """
         robot = check_robot(self.robot)
         limits = resolve_limits(robot, self.limits)
         set_ = object.__setattr__
@@ -142,6 +155,9 @@ class PoolStrike:
         for end in (self.entry_point, self.exit_point):
             solve_ik(robot, end, axis=direction, q_near=q_contact)
         set_(self, "q_contact", q_contact)
+        if self.scene is not None:
+            # CollisionError if the cue or the arm is inside the scene at contact.
+            SceneCollision(robot, self.scene).require_clear(q_contact, "the strike contact")
 
     @property
     def contact_point(self) -> np.ndarray:

@@ -1,10 +1,11 @@
-"""Robot models: URDF files, loading, limits, kinematics, inverse kinematics, symbolic models.
+"""Robot models: URDF files, loading, limits, kinematics, IK, symbolic models, collision shapes.
 
 >>> from optraj import robots
 >>> robot = robots.load("sawyer")
 >>> T_world_tool = robot.tool_pose(robot.home)
 """
 
+from optraj.robots.collision import RobotCollision, collision_model
 from optraj.robots.ik import IKSolution, solve_ik
 from optraj.robots.limits import JointLimits
 from optraj.robots.loading import known_robots, load
@@ -17,7 +18,9 @@ __all__ = [
     "IKSolution",
     "JointLimits",
     "Robot",
+    "RobotCollision",
     "SymbolicModel",
+    "collision_model",
     "known_robots",
     "load",
     "paddle4_ik",

@@ -4,14 +4,13 @@ Our URDFs hold kinematics and dynamics only. :func:`robot_geometry` draws each l
 capsule from its joint to the next joint's origin, each revolute joint as a short dark
 cylinder along its axis, each prismatic joint as a grey rail over its travel, and the tool:
 Sawyer's pool cue, paddle4's paddle, the youBot's gripper (the numbers of the MuJoCo scene,
-:mod:`optraj.physics.scene`), or a small sphere at the tool frame of any other robot. Each
+:mod:`optraj.physics.scene`; the link radii and the gripper's sizes are the collision model's,
+:mod:`optraj.robots.collision`), or a small sphere at the tool frame of any other robot. Each
 moving link has its own colour. The result is a :class:`pinocchio.GeometryModel`, placed by
 Pinocchio at any configuration.
 """
 
 from __future__ import annotations
-
-from dataclasses import dataclass
 
 import coal
 import numpy as np
@@ -26,6 +25,14 @@ from optraj.physics.scene import (
     PADDLE_THICKNESS,
 )
 from optraj.robots import Robot
+from optraj.robots.collision import (
+    FINGER_GAP,
+    FINGER_SIZE,
+    FINGER_START,
+    PALM_SIZE,
+    Sizes,
+    sizes_of,
+)
 from optraj.robots.paddle_ik import BALL_OFFSET
 from optraj.viz.shapes import MIN_LENGTH, along
 
@@ -53,43 +60,6 @@ CUE_TIP_COLOUR = (0.2, 0.4, 0.8, 1.0)
 #: Paddle blade colour: the MuJoCo scene's red.
 PADDLE_COLOUR = (0.75, 0.1, 0.1, 1.0)
 GRIPPER_COLOUR = (0.25, 0.25, 0.28, 1.0)
-
-#: youBot gripper: palm (x, y, z lengths [m]) on arm_link_5; fingers 0.046 m out, each open
-#: 0.0115 m at most (robots.md); finger lengths [m]. Our drawing of the published numbers.
-PALM_SIZE = (0.03, 0.1, 0.046)
-FINGER_SIZE = (0.015, 0.01, 0.05)
-FINGER_START = 0.046
-FINGER_GAP = 0.0115
-
-
-@dataclass(frozen=True)
-class Sizes:
-    """Radii of a robot's drawing [m].
-
-    Attributes:
-        links: Capsule radius per link, the base first; the last one repeats.
-        joint: Radius of a revolute joint's housing, as a multiple of its link's radius.
-        rail: Radius of a prismatic joint's rail.
-    """
-
-    links: tuple[float, ...]
-    joint: float = 1.1
-    rail: float = 0.015
-
-
-#: Our choices, close to the arms' real girth: Sawyer's upper arm is about 0.13 m across,
-#: the youBot's links about 0.07 m.
-SIZES = {
-    "sawyer": Sizes((0.07, 0.065, 0.055, 0.05, 0.045, 0.04, 0.035, 0.03, 0.03)),
-    "youbot": Sizes((0.05, 0.04, 0.035, 0.03, 0.028, 0.025)),
-    "paddle4": Sizes((0.03, 0.03, 0.025, 0.025, 0.018), rail=0.02),
-}
-DEFAULT_SIZES = Sizes((0.05, 0.045, 0.04, 0.035, 0.03, 0.025))
-
-
-def sizes_of(robot: Robot) -> Sizes:
-    """The radii used for a robot (by name; a default for the others)."""
-    return SIZES.get(robot.name, DEFAULT_SIZES)
 
 
 def robot_geometry(robot: Robot) -> pin.GeometryModel:

@@ -25,6 +25,10 @@ How the worst values are found:
   pose and Jacobian, computed in one batched call over every instant needed (:mod:`.kinematics`;
   one module per constraint kind: :mod:`.boundary_state`, :mod:`.via_point`,
   :mod:`.tool_path`, :mod:`.strike_line`, :mod:`.tool_contact`).
+* Clearance, for a problem with a ``scene`` or ``check(..., scene=...)``: the signed distance
+  of every pair of shapes that may not touch (Pinocchio and coal), at every sample, with a
+  bound between samples from the joints' speeds; doubtful intervals are halved
+  (:mod:`.clearance`).
 
 Example::
 

@@ -21,6 +21,7 @@ import numpy as np
 
 from optraj.errors import InvalidInputError
 from optraj.planners.checker.boundary_state import boundary_state_check, boundary_wanted
+from optraj.planners.checker.clearance import clearance_check
 from optraj.planners.checker.context import CheckContext
 from optraj.planners.checker.joint_limits import QUANTITIES, limit_findings
 from optraj.planners.checker.jumps import Jump, boundary_jumps, breakpoint_jumps
@@ -34,6 +35,8 @@ from optraj.planners.checker.tool_path import tool_path_check, tool_speed_check
 from optraj.planners.checker.via_point import via_point_check
 from optraj.planners.trajectory import Trajectory, sampling_rate
 from optraj.problems.constraints import BoundaryState, StrikeLine, ToolContact, ToolPath, ViaPoint
+from optraj.problems.scene import Scene
+from optraj.problems.scene_distances import SceneCollision
 from optraj.robots import JointLimits, Robot
 from optraj.validation import as_choice, as_positive
 
@@ -95,6 +98,7 @@ def check(
     rate: float = 1000.0,
     quantities: Iterable[str] | None = None,
     tool_speed: float | None = None,
+    scene: Scene | None = None,
 ) -> Report:
     """Check a trajectory against joint limits and, for a problem, its task constraints.
 
@@ -113,6 +117,10 @@ def check(
             (what ``Toppra(tool_speed=...)`` promises): adds a ``tool speed`` finding,
             sampled at ``rate`` and every breakpoint; None for none. A
             :class:`problems.ToolPath` with ``speed`` adds one over its phase.
+        scene: The robot's surroundings (:class:`problems.Scene`): adds a ``clearance``
+            finding, the smallest distance between every pair that may not touch, sampled
+            at ``rate`` with a bound between samples (:mod:`.clearance`), judged against the
+            scene's margin. None: the problem's ``scene`` if it has one, else no clearance.
 
     Returns:
         The report: limit findings (one per quantity, worst joint and time) then task findings
@@ -120,7 +128,8 @@ def check(
 
     Raises:
         InvalidInputError: Not a Trajectory, an unusable target, a joint count that differs
-            from the robot's, a bad rate, or a malformed or unknown constraint.
+            from the robot's, a bad rate, a malformed or unknown constraint, or a scene that
+            is not a problems.Scene.
         UnknownNameError: An unknown quantity; lists the valid ones.
     """
     if not isinstance(trajectory, Trajectory):
@@ -142,6 +151,9 @@ def check(
     if tool_speed is not None:
         evaluations.append(tool_speed_check(as_positive(tool_speed, "tool_speed", "m/s"), ctx))
     evaluations.extend(_constraint_checks(constraints, ctx, jumps))
+    surroundings = getattr(target, "scene", None) if scene is None else scene
+    if surroundings is not None:
+        evaluations.append(clearance_check(SceneCollision(robot, surroundings), ctx))
     ctx.kinematics.compute()
     findings = limit_findings(wanted, robot, ctx, jumps)
     findings.extend(_task_findings(evaluations))

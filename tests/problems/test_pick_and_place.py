@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from conftest import get_robot
 
-from optraj.errors import InvalidInputError, UnreachableError
+from optraj import problems
+from optraj.errors import CollisionError, InvalidInputError, UnreachableError
 from optraj.problems import PickAndPlace, ToolContact, youbot_two_blocks
+from optraj.problems.scene_shapes import translation
 
 
 def test_ik_solutions_put_the_gripper_on_each_block_and_the_pile():
@@ -62,3 +66,19 @@ def test_bad_values(kwargs, match):
     fields.update(kwargs)
     with pytest.raises(InvalidInputError, match=match):
         PickAndPlace(**fields)
+
+
+def test_a_scene_is_optional_and_a_clear_one_is_kept():
+    task = problems.youbot_two_blocks()
+    assert task.scene is None
+    scene = problems.pick_and_place_scene(task)
+    assert dataclasses.replace(task, scene=scene).scene is scene
+
+
+def test_a_grip_inside_an_obstacle_is_refused_naming_the_pair():
+    task = problems.youbot_two_blocks()
+    post = problems.Box("post", (0.02, 0.02, 0.05), translation(task.picks[1]))
+    scene = problems.Scene((post,))
+    with pytest.raises(CollisionError, match="'post'") as caught:
+        dataclasses.replace(task, scene=scene)
+    assert caught.value.what == "above pick 1" and caught.value.second == "post"

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from conftest import get_robot
 
-from optraj.errors import InvalidInputError, UnreachableError
+from optraj import problems
+from optraj.errors import CollisionError, InvalidInputError, UnreachableError
 from optraj.problems import POOL_BALL_RADIUS, PoolStrike, StrikeLine
 from optraj.problems.pool_strike import MAX_WINDOW
 
@@ -77,3 +80,16 @@ def test_the_slowest_speed_a_refusal_names_is_accepted():
         PoolStrike(sawyer, ball=(0.75, 0.15, -0.05), direction=(1, 0, 0), speed=0.0024)
     problem = PoolStrike(sawyer, ball=(0.75, 0.15, -0.05), direction=(1, 0, 0), speed=0.0025)
     assert problem.window == pytest.approx(MAX_WINDOW, rel=1e-12)
+
+
+def test_a_strike_whose_contact_puts_the_wrist_in_the_table_is_refused():
+    shot = problems.sawyer_pool_shot()
+    assert shot.scene is None
+    # A horizontal cue at the ball's height carries the wrist (capsules of 3 to 3.5 cm
+    # radius) 2.9 cm above the cloth: it is in the cloth, or in the near cushion.
+    table = problems.pool_table(shot.ball, shot.ball_radius)
+    with pytest.raises(CollisionError, match="strike contact") as caught:
+        dataclasses.replace(shot, scene=table)
+    assert caught.value.first.startswith("link_") and caught.value.second == "cushion_near"
+    floor_only = problems.Scene((problems.floor(-0.914),))
+    assert dataclasses.replace(shot, scene=floor_only).scene is floor_only

@@ -85,6 +85,19 @@ def test_path_jump_error_names_time_joint_and_size():
     assert issubclass(errors.PathJumpWarning, UserWarning)
 
 
+def test_collision_error_names_the_pair_and_the_depth():
+    exc = errors.CollisionError("tool/finger_left", "block_1", -0.0031, what="goal")
+    text = str(exc)
+    assert "'tool/finger_left'" in text and "'block_1'" in text and "3.1 mm" in text
+    assert text.startswith("goal is in collision")
+    assert (exc.first, exc.second, exc.distance, exc.point) == (
+        "tool/finger_left",
+        "block_1",
+        -0.0031,
+        None,
+    )
+
+
 @pytest.mark.parametrize(
     "error",
     [
@@ -106,6 +119,7 @@ def test_path_jump_error_names_time_joint_and_size():
         errors.SolverError("ipopt", "Infeasible_Problem_Detected", iterations=9, detail="why"),
         errors.CompilerError("gcc", "not found"),
         errors.PathJumpError(0.5, "J2", 0.8, 0.1),
+        errors.CollisionError("link_3", "block_0", -0.004, what="pick 0", point=(0.2, 0.1, 0.0)),
     ],
     ids=lambda error: type(error).__name__,
 )
