@@ -12,13 +12,14 @@ from optraj.problems.common import check_robot, joint_state, positive, resolve_l
 from optraj.problems.constraints import BoundaryState, Constraint, ToolContact
 from optraj.problems.scene import Scene
 from optraj.problems.scene_distances import SceneCollision
+from optraj.problems.scene_shapes import Box, Cylinder, Sphere
 from optraj.robots import JointLimits, Robot, solve_ik
 from optraj.validation import as_array, as_duration, as_vector
 
 #: Arrays the problem stores after checking its inputs (it takes any array-like).
 FloatArray = NDArray[np.float64]
 
-__all__ = ["PHASES", "PickAndPlace"]
+__all__ = ["PHASES", "RETREAT", "PickAndPlace", "highest_point"]
 
 #: The seven phases of each object, in order (suffixed ``_<object index>`` in trajectories).
 PHASES = (
@@ -30,6 +31,8 @@ PHASES = (
     "turn_to_target",  # turn and reach above the pile
     "release",  # go down onto the pile and open the gripper (dwell)
 )
+#: The phase after each release in a plan that leaves the block vertically (suffixed too).
+RETREAT = "retreat"
 
 
 @dataclass(frozen=True, eq=False)
@@ -48,7 +51,10 @@ class PickAndPlace:
         approach: Direction of the tool z axis while gripping, shape (3,) (down by default).
         grasp_time: Dwell to close or open the gripper [s].
         q_start: Start (and end) configuration; the robot's home when None.
-        q_interim: Interim configuration between objects; q_start when None.
+        q_interim: Interim configuration between objects. When None: with a scene, the
+            gripper (along ``approach``) above the middle of the picks and the pile, its TCP
+            :meth:`interim_height` high; without one, q_start. (``dataclasses.replace``
+            keeps the resolved one: pass ``q_interim=None`` to choose it again.)
         limits: Limits to plan for; the robot's when None.
         position_tolerance: [m].
         angle_tolerance: [rad].
@@ -97,7 +103,9 @@ class PickAndPlace:
             limits, robot.home if self.q_start is None else self.q_start, None, None, "start"
         )
         set_(self, "q_start", q_start)
-        interim = q_start if self.q_interim is None else self.q_interim
+        interim = self.q_interim
+        if interim is None:
+            interim = q_start if self.scene is None else self._scene_interim(q_start)
         set_(self, "q_interim", joint_state(limits, interim, None, None, "interim")[0])
 
         lift = -self.clearance * np.asarray(self.approach)
@@ -122,6 +130,7 @@ class PickAndPlace:
         if self.scene is None:
             return
         shapes = SceneCollision(self.robot, self.scene)
+        shapes.require_clear(self.q_interim, "interim")
         for k in range(self.count):
             for what, q in (
                 (f"above pick {k}", self.q_above_pick[k]),
@@ -130,6 +139,31 @@ class PickAndPlace:
                 (f"place {k}", self.q_place[k]),
             ):
                 shapes.require_clear(q, what)
+
+    def interim_height(self) -> float:
+        """Height of the TCP at the scene's interim pose [m], world z.
+
+        The highest point of the scene's bounded objects (boxes, spheres, cylinders; planes
+        bound the space from below) and of the pile the last block is put on, plus a carried
+        block's lower half (the TCP holds a block at its centre), plus ``clearance`` (or the
+        scene's margin if larger): a carried block passes as high above everything as it
+        starts its descent above the pile.
+        """
+        pile_top = float(np.asarray(self.pile)[2]) + (self.count - 1.5) * float(self.block_height)
+        tops = [pile_top]
+        if self.scene is not None:
+            bounded = (
+                item for item in self.scene.objects if isinstance(item, Box | Sphere | Cylinder)
+            )
+            tops += [highest_point(item) for item in bounded]
+        margin = 0.0 if self.scene is None else float(self.scene.margin)
+        return max(tops) + 0.5 * float(self.block_height) + max(float(self.clearance), margin)
+
+    def _scene_interim(self, q_start: np.ndarray) -> np.ndarray:
+        """The interim configuration chosen from the scene (see ``q_interim``)."""
+        middle = np.vstack([np.asarray(self.picks), np.asarray(self.pile)[None]]).mean(axis=0)
+        point = np.array([middle[0], middle[1], self.interim_height()])
+        return self._ik(point, q_start, "the interim pose")
 
     def _ik(self, point: np.ndarray, q_near: np.ndarray, what: str) -> np.ndarray:
         try:
@@ -177,3 +211,16 @@ class PickAndPlace:
                 )
         items.append(BoundaryState("end", None, np.zeros(n)))
         return tuple(items)
+
+
+def highest_point(item: Box | Sphere | Cylinder) -> float:
+    """The largest world z of a bounded scene object [m]."""
+    pose = np.asarray(item.pose)
+    up = pose[2, :3]  # world z of the object's x, y, z axes
+    if isinstance(item, Box):
+        return float(pose[2, 3] + np.abs(up) @ np.asarray(item.half_extents))
+    if isinstance(item, Sphere):
+        return float(pose[2, 3] + item.radius)
+    # A cylinder along its z axis: the rim of its higher end.
+    tilt = float(np.sqrt(max(0.0, 1.0 - up[2] ** 2)))
+    return float(pose[2, 3] + abs(up[2]) * item.half_length + tilt * item.radius)

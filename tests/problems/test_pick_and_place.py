@@ -11,6 +11,7 @@ from conftest import get_robot
 from optraj import problems
 from optraj.errors import CollisionError, InvalidInputError, UnreachableError
 from optraj.problems import PickAndPlace, ToolContact, youbot_two_blocks
+from optraj.problems.pick_and_place import highest_point
 from optraj.problems.scene_shapes import translation
 
 
@@ -82,3 +83,52 @@ def test_a_grip_inside_an_obstacle_is_refused_naming_the_pair():
     with pytest.raises(CollisionError, match="'post'") as caught:
         dataclasses.replace(task, scene=scene)
     assert caught.value.what == "above pick 1" and caught.value.second == "post"
+
+
+def test_without_a_scene_the_interim_pose_is_the_start_pose():
+    task = problems.youbot_two_blocks()
+    np.testing.assert_array_equal(task.q_interim, task.q_start)
+
+
+def test_with_a_scene_the_interim_pose_clears_the_tallest_object_by_the_clearance():
+    task = problems.youbot_two_blocks()
+    scene = problems.pick_and_place_scene(task)
+    chosen = dataclasses.replace(task, scene=scene, q_interim=None)
+    # The pile under the last block tops out at -0.03 - 0.015 + 0.03 = -0.015 m, as high as
+    # the blocks where they stand; a carried block hangs 0.015 m below the TCP, which passes
+    # the clearance (0.05 m) above that.
+    assert chosen.interim_height() == pytest.approx(-0.015 + 0.015 + 0.05, abs=1e-12)
+    tcp = chosen.robot.tool_pose(chosen.q_interim)
+    middle = np.mean([*task.picks, task.pile], axis=0)
+    np.testing.assert_allclose(tcp[:3, 3], [*middle[:2], 0.05], atol=1e-6)
+    np.testing.assert_allclose(tcp[:3, 2], task.approach, atol=1e-6)
+    # A taller object raises it; replace keeps the resolved pose unless told to choose again.
+    post = problems.Box("post", (0.01, 0.01, 0.02), translation((0.0, 0.3, -0.025)))
+    taller = dataclasses.replace(scene, objects=(*scene.objects, post))
+    kept = dataclasses.replace(chosen, scene=taller)
+    np.testing.assert_array_equal(kept.q_interim, chosen.q_interim)
+    again = dataclasses.replace(chosen, scene=taller, q_interim=None)
+    assert again.interim_height() == pytest.approx(-0.005 + 0.015 + 0.05, abs=1e-12)
+
+
+def test_an_interim_pose_out_of_reach_is_named():
+    task = problems.youbot_two_blocks()
+    tower = problems.Box("tower", (0.01, 0.01, 0.2), translation((0.0, 0.3, 0.0)))
+    scene = problems.Scene((tower,))
+    with pytest.raises(UnreachableError, match="the interim pose at"):
+        dataclasses.replace(task, scene=scene, q_interim=None)
+
+
+@pytest.mark.parametrize(("item", "top"), [
+    (problems.Box("b", (0.1, 0.2, 0.3), translation((0, 0, 1.0))), 1.3),
+    # Turned 90 deg about x: its y half-extent stands up.
+    (problems.Box("b", (0.1, 0.2, 0.3), np.array(
+        [[1, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 1.0], [0, 0, 0, 1]], dtype=float)), 1.2),
+    (problems.Sphere("s", 0.25, translation((1, 2, 3))), 3.25),
+    (problems.Cylinder("c", 0.1, 0.5, translation((0, 0, 1.0))), 1.5),
+    # Lying along x: its radius is its top.
+    (problems.Cylinder("c", 0.1, 0.5, np.array(
+        [[0, 0, 1, 0], [0, 1, 0, 0], [-1, 0, 0, 1.0], [0, 0, 0, 1]], dtype=float)), 1.1),
+])  # fmt: skip
+def test_highest_point_of_each_shape(item, top):
+    assert highest_point(item) == pytest.approx(top, abs=1e-12)

@@ -7,6 +7,7 @@ import pytest
 
 from optraj import problems
 from optraj.errors import InvalidInputError
+from optraj.problems.scenarios import block_clearance_scene
 
 
 def test_ece486_paddle_strike_is_the_ece486_set_up():
@@ -31,3 +32,35 @@ def test_a_pool_shot_heading_must_be_a_finite_number(heading):
 def test_two_blocks():
     problem = problems.youbot_two_blocks()
     assert problem.count == 2 and problem.robot.name == "youbot"
+
+
+def test_two_blocks_with_their_scene():
+    problem = problems.youbot_two_blocks(with_scene=True, margin=0.001)
+    scene = problem.scene
+    assert scene is not None and scene.margin == 0.001
+    assert scene.names == ("block_0", "block_1", "work_surface")
+    # The interim pose is the scene's, not the start pose, and the blocks are turned as the
+    # gripper grips them in this very problem.
+    assert not np.allclose(problem.q_interim, problem.q_start)
+    for k in range(problem.count):
+        block = scene.object(f"block_{k}").pose
+        np.testing.assert_allclose(block[:3, 3], problem.picks[k], atol=1e-12)
+        tool = problem.robot.tool_pose(problem.q_pick[k])
+        np.testing.assert_allclose(block[:3, :3], tool[:3, :3], atol=1e-9)
+
+
+def test_the_block_clearance_scene_allows_the_gripper_only_at_its_blocks():
+    problem = problems.youbot_two_blocks(with_scene=True)
+    blocks = block_clearance_scene(problem)
+    assert blocks.margin == 0.02 and blocks.names == ("block_0", "block_1")
+    assert [a.object for a in blocks.attachments] == ["block_0", "block_1"]
+    assert blocks.always_allowed("link_3", "tool/palm")  # the robot itself: the problem's
+    assert blocks.always_allowed("block_0", "block_1")
+    assert not blocks.always_allowed("link_5", "block_0")
+    assert blocks.sometimes_allowed("link_5", "block_0") is None
+    held = ("descend", "grasp", "back_to_interim", "turn_to_target", "release", "retreat")
+    under = ("release_1", "retreat_1")  # block 1 is put on block 0
+    expected = (*(f"{p}_0" for p in held), *under)
+    assert blocks.sometimes_allowed("tool/finger_left", "block_0") == expected
+    with pytest.raises(InvalidInputError, match="needs a problem with a scene"):
+        block_clearance_scene(problems.youbot_two_blocks())
