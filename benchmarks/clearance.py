@@ -14,7 +14,7 @@
 
 Prints a Markdown table and writes it to ``--out`` (a file; never the committed results).
 
-Usage: ``python benchmarks/clearance.py --out /tmp/clearance.md [--repeats 5]``
+Usage: ``python benchmarks/clearance.py --out /tmp/clearance.md [--repeats 5 | --quick]``
 """
 
 from __future__ import annotations
@@ -33,6 +33,8 @@ from optraj.problems.scenarios import block_clearance_scene
 from optraj.problems.scene_distances import SceneCollision
 
 REPEATS = 5
+#: Timed runs of each check with ``--quick`` (as ``run_all.py --quick`` passes it).
+QUICK_REPEATS = 2
 
 
 def _seconds(run: Callable[[], object]) -> float:
@@ -128,10 +130,12 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, required=True, help="Markdown file to write")
     parser.add_argument("--repeats", type=int, default=REPEATS, help="timed runs of each check")
+    parser.add_argument("--quick", action="store_true", help=f"{QUICK_REPEATS} timed runs")
     args = parser.parse_args(argv)
     if args.repeats < 1:
         parser.error(f"--repeats must be >= 1, got {args.repeats}")
-    write_report([*cost_rows(args.repeats), "", *duration_rows()], args.out)
+    repeats = QUICK_REPEATS if args.quick else args.repeats
+    write_report([*cost_rows(repeats), "", *duration_rows()], args.out)
     return 0
 
 
