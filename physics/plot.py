@@ -18,8 +18,8 @@ from numpy.typing import NDArray
 
 from optraj.errors import InvalidInputError
 from optraj.physics.outcome import HEADING_TOLERANCE, Outcome
-from optraj.physics.scene import BALL_FROM_NEAR_END, TABLE_SIZE
 from optraj.planners.plot_style import legend_below, line_styles, pyplot
+from optraj.problems.scenes import BALL_FROM_NEAR_END, TABLE_SIZE
 from optraj.validation import as_choice
 
 __all__ = ["LEGEND_PLACEMENTS", "plot_ball_paths", "plot_heading_errors"]

@@ -2,7 +2,9 @@ r"""MuJoCo worlds for a strike, built with ``mujoco.MjSpec`` from our own URDF f
 
 A :class:`StrikeScene` is the recipe of one world: the arm from its URDF (or, with
 ``kinematic=True``, only its tool as a free body that is moved along a prescribed path), the
-tool's striking geometry (a cue with a round tip, or a paddle), a table and a free ball. It is
+tool's striking geometry (a cue with a round tip, or a paddle), the still solids of a
+:class:`problems.Scene` (the description the planners, the checker and the viewer read too: for
+pool by default :func:`problems.pool_table`, cloth, cushions and floor) and a free ball. It is
 a small frozen value that pickles; :meth:`StrikeScene.build` compiles it into a
 :class:`mujoco.MjModel` with the indices the plant and the outcome need (:class:`World`).
 
@@ -11,7 +13,9 @@ a small frozen value that pickles; :meth:`StrikeScene.build` compiles it into a
 >>> world.model.opt.timestep      # the coarse physics step [s]
 
 Contacts are explicit MuJoCo contact pairs, so that nothing else touches: tool tip and ball,
-ball and table, ball and cushions. The arm's links carry no geometry (the URDFs have none).
+ball and every still solid (:mod:`optraj.physics.static_objects`). The arm's links carry no
+geometry (the URDFs have none). The tool sizes are :mod:`robots.collision`'s, the table's
+:mod:`problems.scenes`'.
 
 Contact parameters and why:
 
@@ -44,9 +48,26 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
+from optraj.physics.static_objects import (
+    CLOTH_FRICTION,
+    CLOTH_SOLREF,
+    CUSHION_FRICTION,
+    CUSHION_SOLREF,
+    add_objects,
+    add_pair,
+    inert,
+)
+from optraj.problems import Scene
 from optraj.problems.pool_strike import POOL_BALL_RADIUS
+from optraj.problems.scenes import BALL_FROM_NEAR_END, CUSHION_HEIGHT, TABLE_SIZE, pool_table
 from optraj.robots import Robot
-from optraj.robots.loading import urdf_model
+from optraj.robots.collision import (
+    CUE_TIP_RADIUS,
+    PADDLE_BALL_RADIUS,
+    PADDLE_RADIUS,
+    PADDLE_THICKNESS,
+)
+from optraj.robots.loading import SAWYER_CUE_RADIUS, urdf_model
 from optraj.robots.paddle_ik import BALL_OFFSET
 from optraj.validation import (
     as_array,
@@ -59,10 +80,21 @@ from optraj.validation import (
 )
 
 __all__ = [
+    "BALL_FROM_NEAR_END",
+    "CLOTH_FRICTION",
+    "CLOTH_SOLREF",
+    "CUE_SHAFT_RADIUS",
+    "CUE_TIP_RADIUS",
+    "CUSHION_FRICTION",
+    "CUSHION_HEIGHT",
+    "CUSHION_SOLREF",
     "KINEMATIC_TOOL_MASS",
     "PADDLE_BALL_MASS",
     "PADDLE_BALL_RADIUS",
+    "PADDLE_RADIUS",
+    "PADDLE_THICKNESS",
     "POOL_BALL_MASS",
+    "TABLE_SIZE",
     "StrikeScene",
     "World",
     "paddle_scene",
@@ -74,30 +106,16 @@ FloatArray = NDArray[np.float64]
 
 #: Pool ball mass [kg] (WPA: 5.5 to 6 oz, 156 to 170 g).
 POOL_BALL_MASS = 0.17
-#: Table-tennis ball radius and mass [m, kg] (ITTF: 40 mm diameter, 2.7 g).
-PADDLE_BALL_RADIUS = 0.02
+#: Table-tennis ball mass [kg] (ITTF: 2.7 g); its radius is robots.collision's.
 PADDLE_BALL_MASS = 0.0027
-#: Cue tip radius [m] (our choice, a rounded tip: 1 mm of tip offset then turns the ball
-#: by asin(1 / (28.575 + 6)) = 1.66 deg).
-CUE_TIP_RADIUS = 0.006
-#: Cue shaft radius [m] (the model's cue, robots.loading.SAWYER_CUE_RADIUS).
-CUE_SHAFT_RADIUS = 0.0065
-#: Paddle blade radius and thickness [m] (our choice: a 150 mm blade; the ECE486 paddle
-#: thickness w_p = 0.01 m).
-PADDLE_RADIUS = 0.075
-PADDLE_THICKNESS = 0.01
+#: Cue shaft radius [m]: the model's cue.
+CUE_SHAFT_RADIUS = SAWYER_CUE_RADIUS
 #: Mass of each striking geom [kg]: next to nothing, since the tool's mass is the robot
 #: model's (see StrikeScene.build) or, kinematic, the free body's.
 GEOM_MASS = 1e-6
 #: Mass of the free tool body of a kinematic scene [kg]: so heavy that the ball's impulse
 #: does not slow it (its path is prescribed anyway).
 KINEMATIC_TOOL_MASS = 1000.0
-#: Playing surface of a 9-ft pool table [m] (WPA: 100 x 50 in).
-TABLE_SIZE = (2.54, 1.27)
-#: The table is placed with the ball this far in from the near cushion [m], centred across.
-BALL_FROM_NEAR_END = 0.35
-#: Cushion nose height above the cloth [m] (WPA: 63.5 % of the ball diameter).
-CUSHION_HEIGHT = 0.0363
 #: Physics steps [s]: coarse (away from contact) and fine (around it).
 STEP = 1e-4
 FINE_STEP = 2e-6
@@ -107,19 +125,9 @@ FINE_STEP = 2e-6
 MIN_STEP = 1e-7
 MAX_STEP = 1e-3
 
-#: Contact parameters (see the module docstring).
+#: Tool-ball contact parameters (see the module docstring).
 TOOL_BALL_SOLREF = (0.002, 0.07)
 TOOL_BALL_SOLIMP = (0.99, 0.999, 0.0001, 0.5, 2.0)
-CLOTH_FRICTION = (
-    0.2,
-    0.2,
-    0.005 * POOL_BALL_RADIUS,
-    0.01 * POOL_BALL_RADIUS,
-    0.01 * POOL_BALL_RADIUS,
-)
-CLOTH_SOLREF = (0.004, 1.0)
-CUSHION_SOLREF = (0.004, 0.09)
-CUSHION_FRICTION = (0.2, 0.2, 0.005, 0.0001, 0.0001)
 
 Kind = Literal["pool", "paddle"]
 
@@ -177,7 +185,11 @@ class StrikeScene:
         payload: Extra point mass at the tool frame [kg] (model error), >= 0.
         step: Coarse physics step [s], in [MIN_STEP, MAX_STEP].
         fine_step: Physics step around tool-ball contact [s], in [MIN_STEP, step].
-        cue_length: Distance from the tool body to the cue tip [m] (read from the robot).
+        surroundings: The still solids around (a :class:`problems.Scene`: table, cushions,
+            floor, blocks), built as MuJoCo geoms that the ball touches
+            (:mod:`optraj.physics.static_objects`); None: the ready-made ones
+            (:attr:`static_scene`). Its object ``ball``, if any, is not built: the ball is
+            the free body at ``ball``.
     """
 
     robot: Robot
@@ -191,6 +203,7 @@ class StrikeScene:
     payload: float = 0.0
     step: float = STEP
     fine_step: float = FINE_STEP
+    surroundings: Scene | None = None
     _tool_parent: str = field(init=False, repr=False, default="")
 
     def __post_init__(self) -> None:
@@ -225,6 +238,12 @@ class StrikeScene:
                 f"fine_step {self.fine_step:.6g} s must be <= step {self.step:.6g} s",
                 name="fine_step",
             )
+        if self.surroundings is not None and not isinstance(self.surroundings, Scene):
+            raise InvalidInputError(
+                "surroundings must be a problems.Scene or None, got "
+                f"{type(self.surroundings).__name__}",
+                name="surroundings",
+            )
         set_(self, "_tool_parent", _tool_parent(self.robot))
 
     # ------------------------------------------------------------------------------ geometry
@@ -236,6 +255,20 @@ class StrikeScene:
         tool = model.frames[self.robot.tool_frame_id]
         parent = model.frames[model.getFrameId(self._tool_parent)]
         return np.asarray((parent.placement.inverse() * tool.placement).homogeneous)
+
+    @property
+    def static_scene(self) -> Scene | None:
+        """The still solids the world is built with.
+
+        :attr:`surroundings` when given; else, for pool, the ready-made table under the ball
+        (:func:`problems.pool_table`: cloth, cushions, floor), which follows the ball
+        (:meth:`with_ball`); for a paddle, none.
+        """
+        if self.surroundings is not None:
+            return self.surroundings
+        if self.kind == "pool":
+            return pool_table(np.asarray(self.ball), float(self.ball_radius))
+        return None
 
     @property
     def table_height(self) -> float:
@@ -300,13 +333,14 @@ class StrikeScene:
             weight.size = [0.01, 0, 0]
             weight.pos = offset[:3, 3]
             weight.mass = self.payload
-            _inert(weight)
+            inert(weight)
         if not self.kinematic:
             self._add_servos(spec)
         _, ball_geom = self._add_ball(spec)
-        self._add_pair(spec, striking, ball_geom, 1, TOOL_BALL_SOLREF, TOOL_BALL_SOLIMP)
-        if self.kind == "pool":
-            self._add_table(spec, ball_geom)
+        add_pair(spec, striking, ball_geom, 1, TOOL_BALL_SOLREF, TOOL_BALL_SOLIMP)
+        table = self.static_scene
+        if table is not None:
+            add_objects(spec, table, ball_geom)
         model = spec.compile()
         return self._world(model, offset)
 
@@ -374,13 +408,13 @@ class StrikeScene:
         shaft.fromto = [*back, *(centre - 0.5 * CUE_TIP_RADIUS * axis)]
         shaft.mass = GEOM_MASS
         shaft.rgba = [0.8, 0.65, 0.4, 1]
-        _inert(shaft)
+        inert(shaft)
         tip_geom = body.add_geom(name="cue_tip", type=mujoco.mjtGeom.mjGEOM_SPHERE)
         tip_geom.size = [CUE_TIP_RADIUS, 0, 0]
         tip_geom.pos = centre
         tip_geom.mass = GEOM_MASS
         tip_geom.rgba = [0.2, 0.4, 0.8, 1]
-        _inert(tip_geom)
+        inert(tip_geom)
         return "cue_tip"
 
     def _add_paddle(self, body: mujoco.MjsBody, offset: FloatArray) -> str:
@@ -394,7 +428,7 @@ class StrikeScene:
         blade.quat = _quat_z_to(normal)
         blade.mass = GEOM_MASS
         blade.rgba = [0.75, 0.1, 0.1, 1]
-        _inert(blade)
+        inert(blade)
         return "paddle_blade"
 
     def _add_ball(self, spec: mujoco.MjSpec) -> tuple[mujoco.MjsBody, str]:
@@ -406,53 +440,8 @@ class StrikeScene:
         geom.size = [float(self.ball_radius), 0, 0]
         geom.mass = float(self.ball_mass)
         geom.rgba = [0.95, 0.95, 0.9, 1] if self.kind == "pool" else [1.0, 0.55, 0.1, 1]
-        _inert(geom)
+        inert(geom)
         return body, "ball"
-
-    def _add_table(self, spec: mujoco.MjSpec, ball: str) -> None:
-        length, width = TABLE_SIZE
-        x0 = float(np.asarray(self.ball)[0]) - BALL_FROM_NEAR_END
-        y0 = float(np.asarray(self.ball)[1])
-        top = self.table_height
-        cloth = spec.worldbody.add_geom(name="cloth", type=mujoco.mjtGeom.mjGEOM_BOX)
-        cloth.size = [length / 2 + 0.1, width / 2 + 0.1, 0.02]
-        cloth.pos = [x0 + length / 2, y0, top - 0.02]
-        cloth.rgba = [0.05, 0.45, 0.2, 1]
-        _inert(cloth)
-        self._add_pair(spec, "cloth", ball, 6, CLOTH_SOLREF, None, CLOTH_FRICTION)
-        half = CUSHION_HEIGHT / 2
-        rails = {
-            "cushion_far": ([x0 + length + 0.05, y0], [0.05, width / 2 + 0.1]),
-            "cushion_near": ([x0 - 0.05, y0], [0.05, width / 2 + 0.1]),
-            "cushion_left": ([x0 + length / 2, y0 + width / 2 + 0.05], [length / 2 + 0.1, 0.05]),
-            "cushion_right": ([x0 + length / 2, y0 - width / 2 - 0.05], [length / 2 + 0.1, 0.05]),
-        }
-        for name, (xy, size) in rails.items():
-            rail = spec.worldbody.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_BOX)
-            rail.size = [*size, half]
-            rail.pos = [*xy, top + half]
-            rail.rgba = [0.3, 0.15, 0.05, 1]
-            _inert(rail)
-            self._add_pair(spec, name, ball, 3, CUSHION_SOLREF, None, CUSHION_FRICTION)
-
-    @staticmethod
-    def _add_pair(
-        spec: mujoco.MjSpec,
-        geom1: str,
-        geom2: str,
-        condim: int,
-        solref: tuple[float, float],
-        solimp: tuple[float, ...] | None,
-        friction: tuple[float, ...] | None = None,
-    ) -> None:
-        pair = spec.add_pair(name=f"{geom1}-{geom2}")
-        pair.geomname1, pair.geomname2 = geom1, geom2
-        pair.condim = condim
-        pair.solref = list(solref)
-        if solimp is not None:
-            pair.solimp = list(solimp)
-        if friction is not None:
-            pair.friction = list(friction)
 
     def _world(self, model: mujoco.MjModel, offset: FloatArray) -> World:
         names = () if self.kinematic else self.robot.joint_names
@@ -485,7 +474,7 @@ def pool_scene(robot: Robot, ball: ArrayLike, **options: object) -> StrikeScene:
         robot: A robot whose tool is a cue tip (``robots.load("sawyer")``).
         ball: Ball centre [m], shape (3,); the table's cloth is one radius below it.
         **options: Further :class:`StrikeScene` fields (``kinematic``, ``mass_scale``,
-            ``payload``, ``step``, ``fine_step``).
+            ``payload``, ``step``, ``fine_step``, ``surroundings``).
     """
     # **options are StrikeScene fields of several types, checked there.
     return StrikeScene(robot, "pool", ball, POOL_BALL_RADIUS, POOL_BALL_MASS, **options)  # type: ignore[arg-type]
@@ -518,12 +507,6 @@ def _tool_parent(robot: Robot) -> str:
     return str(frames[index].name)
 
 
-def _inert(geom: mujoco.MjsGeom) -> None:
-    """Make a geom collide only through the explicit contact pairs."""
-    geom.contype = 0
-    geom.conaffinity = 0
-
-
 def _quat_z_to(axis: FloatArray) -> list[float]:
     """Quaternion (w, x, y, z) turning +z onto ``axis`` (unit)."""
     z = np.array([0.0, 0.0, 1.0])
@@ -540,6 +523,9 @@ def _quat_z_to(axis: FloatArray) -> list[float]:
 def scene_for(problem: object, **options: object) -> StrikeScene:
     """The scene of a strike problem: a pool scene for a PoolStrike, a paddle one otherwise.
 
+    The still solids are the problem's ``scene`` when it has one (:class:`problems.Scene`),
+    else the ready-made ones (:attr:`StrikeScene.static_scene`).
+
     Args:
         problem: A :class:`problems.PoolStrike` or :class:`problems.PaddleStrike`.
         **options: Further :class:`StrikeScene` fields.
@@ -550,10 +536,10 @@ def scene_for(problem: object, **options: object) -> StrikeScene:
     from optraj.problems.paddle_strike import PaddleStrike
     from optraj.problems.pool_strike import PoolStrike
 
-    if isinstance(problem, PoolStrike):
-        return pool_scene(problem.robot, problem.ball, **options)
-    if isinstance(problem, PaddleStrike):
-        return paddle_scene(problem.robot, problem.ball, **options)
+    if isinstance(problem, (PoolStrike, PaddleStrike)):
+        options.setdefault("surroundings", getattr(problem, "scene", None))
+        make = pool_scene if isinstance(problem, PoolStrike) else paddle_scene
+        return make(problem.robot, problem.ball, **options)
     raise InvalidInputError(
         f"problem must be a PoolStrike or a PaddleStrike, got {type(problem).__name__}",
         name="problem",

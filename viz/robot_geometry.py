@@ -3,11 +3,10 @@
 Our URDFs hold kinematics and dynamics only. :func:`robot_geometry` draws each link as a
 capsule from its joint to the next joint's origin, each revolute joint as a short dark
 cylinder along its axis, each prismatic joint as a grey rail over its travel, and the tool:
-Sawyer's pool cue, paddle4's paddle, the youBot's gripper (the numbers of the MuJoCo scene,
-:mod:`optraj.physics.scene`; the link radii and the gripper's sizes are the collision model's,
-:mod:`optraj.robots.collision`), or a small sphere at the tool frame of any other robot. Each
-moving link has its own colour. The result is a :class:`pinocchio.GeometryModel`, placed by
-Pinocchio at any configuration.
+Sawyer's pool cue, paddle4's paddle, the youBot's gripper (the sizes of the collision model,
+:mod:`optraj.robots.collision`, which the MuJoCo scene uses too), or a small sphere at the
+tool frame of any other robot. Each moving link has its own colour. The result is a
+:class:`pinocchio.GeometryModel`, placed by Pinocchio at any configuration.
 """
 
 from __future__ import annotations
@@ -17,22 +16,20 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
-from optraj.physics.scene import (
-    CUE_SHAFT_RADIUS,
-    CUE_TIP_RADIUS,
-    PADDLE_BALL_RADIUS,
-    PADDLE_RADIUS,
-    PADDLE_THICKNESS,
-)
 from optraj.robots import Robot
 from optraj.robots.collision import (
+    CUE_TIP_RADIUS,
     FINGER_GAP,
     FINGER_SIZE,
     FINGER_START,
+    PADDLE_BALL_RADIUS,
+    PADDLE_RADIUS,
+    PADDLE_THICKNESS,
     PALM_SIZE,
     Sizes,
     sizes_of,
 )
+from optraj.robots.loading import SAWYER_CUE_RADIUS as CUE_SHAFT_RADIUS
 from optraj.robots.paddle_ik import BALL_OFFSET
 from optraj.viz.shapes import MIN_LENGTH, along
 

@@ -28,7 +28,7 @@ from optraj.viz.ball import ball_motion, path_shapes, path_times
 from optraj.viz.mounts import mount_of, mount_shapes
 from optraj.viz.robot_geometry import robot_geometry
 from optraj.viz.shapes import Shape
-from optraj.viz.tasks import ball_shape, block_shapes, paddle_shapes, pool_shapes
+from optraj.viz.tasks import ball_shape, paddle_shapes, pile_shape, pool_shapes, task_objects
 
 __all__ = ["MAX_AFTER", "MAX_FPS", "MIN_FPS", "Scene", "build_scene"]
 
@@ -206,12 +206,14 @@ def _task_shapes(
     floor: float,
 ) -> list[Shape]:
     shapes: list[Shape] = []
+    if problem is not None:
+        shapes += task_objects(problem, robot, trajectory, times, floor)
     if isinstance(problem, PoolStrike):
         shapes += pool_shapes(problem, floor)
     elif isinstance(problem, PaddleStrike):
         shapes += paddle_shapes(problem)
     elif isinstance(problem, PickAndPlace):
-        shapes += block_shapes(problem, robot, trajectory, times)
+        shapes.append(pile_shape(problem))
     motion = ball_motion(outcome, times) if outcome is not None else None
     if isinstance(problem, (PoolStrike, PaddleStrike)):
         shapes.append(ball_shape(problem, motion))

@@ -5,7 +5,8 @@ import pytest
 
 from optraj import physics, problems
 from optraj.errors import InvalidInputError
-from optraj.physics.scene import CUE_TIP_RADIUS, POOL_BALL_MASS, POOL_BALL_RADIUS
+from optraj.physics.scene import POOL_BALL_MASS, POOL_BALL_RADIUS
+from optraj.robots.collision import CUE_TIP_RADIUS
 
 
 @pytest.fixture(scope="module")

@@ -1,10 +1,14 @@
+import dataclasses
+
 import mujoco
 import numpy as np
 import pinocchio as pin
 import pytest
 
-from optraj import physics, robots
+from optraj import physics, problems, robots
 from optraj.errors import InvalidInputError
+from optraj.problems.scene_shapes import translation
+from optraj.robots.collision import CUE_TIP_RADIUS
 
 BALL = (0.75, 0.15, -0.05)
 
@@ -48,9 +52,7 @@ def test_the_cue_tip_front_is_the_tool_frame(sawyer):
     _, _, data = _mass_and_gravity(world, q)
     T = sawyer.tool_pose(q)
     centre = data.geom_xpos[world.tool_geom]
-    np.testing.assert_allclose(
-        centre + physics.scene.CUE_TIP_RADIUS * T[:3, 2], T[:3, 3], atol=1e-9
-    )
+    np.testing.assert_allclose(centre + CUE_TIP_RADIUS * T[:3, 2], T[:3, 3], atol=1e-9)
 
 
 def test_model_error_scales_the_links_and_adds_the_payload(sawyer):
@@ -85,3 +87,52 @@ def test_bad_scene_options_are_typed_errors(sawyer, options, match):
 def test_scene_for_refuses_other_problems():
     with pytest.raises(InvalidInputError, match="PoolStrike or a PaddleStrike"):
         physics.scene_for(object())
+
+
+def _geom(model, name):
+    geom = model.geom(name)
+    return int(geom.type[0]), np.asarray(geom.size), np.asarray(geom.pos)
+
+
+def test_the_pool_world_is_built_from_the_ready_made_table(sawyer):
+    model = physics.pool_scene(sawyer, BALL).build().model
+    table = problems.pool_table(BALL)
+    for name in ("cloth", "cushion_far", "cushion_near", "cushion_left", "cushion_right"):
+        kind, size, pos = _geom(model, name)
+        box = table.object(name)
+        assert kind == mujoco.mjtGeom.mjGEOM_BOX
+        np.testing.assert_array_equal(size, box.half_extents)
+        np.testing.assert_array_equal(pos, box.pose[:3, 3])
+        # the ball touches each of them through its own pair, nothing else does
+        assert model.pair(f"{name}-ball").id >= 0
+    kind, _, pos = _geom(model, "floor")
+    assert kind == mujoco.mjtGeom.mjGEOM_PLANE and pos[2] == table.object("floor").point[2]
+    assert model.npair == 1 + 6  # cue tip and ball; ball and each of the 6 table objects
+    assert (model.geom_contype == 0).all() and (model.geom_conaffinity == 0).all()
+
+
+def test_the_table_follows_the_ball_unless_the_problem_has_its_own(sawyer, pool_shot):
+    moved = physics.pool_scene(sawyer, BALL).with_ball((0.85, 0.15, -0.05)).build().model
+    _, _, pos = _geom(moved, "cushion_near")
+    assert pos[0] == pytest.approx(0.85 - 0.35 - 0.05)
+    # The README shot's wrist is inside the ready-made table's cloth (the problem refuses
+    # that table), so this problem has a block far ahead instead.
+    block = problems.Box("block", (0.05, 0.05, 0.05), translation((2.0, 0.15, 0.0)))
+    own = problems.Scene((block,))
+    scene = physics.scene_for(dataclasses.replace(pool_shot, scene=own))
+    assert scene.surroundings is own
+    model = scene.with_ball(BALL).build().model
+    _, _, pos = _geom(model, "block")
+    np.testing.assert_array_equal(pos, [2.0, 0.15, 0.0])
+    assert model.npair == 2 and "cloth" not in {model.geom(i).name for i in range(model.ngeom)}
+
+
+def test_other_surroundings_are_refused(sawyer):
+    with pytest.raises(InvalidInputError, match=r"surroundings must be a problems\.Scene"):
+        physics.pool_scene(sawyer, BALL, surroundings=[problems.Plane("floor", (0, 0, -1))])
+
+
+def test_a_paddle_world_has_no_table_by_default():
+    paddle = robots.load("paddle4")
+    model = physics.paddle_scene(paddle, (0.8, 0.2, 0.3)).build().model
+    assert model.npair == 1  # blade and ball

@@ -3,7 +3,7 @@ import pinocchio as pin
 import pytest
 from conftest import SHIPPED, get_robot
 
-from optraj.physics.scene import CUE_TIP_RADIUS, PADDLE_RADIUS
+from optraj.robots.collision import CUE_TIP_RADIUS, PADDLE_RADIUS
 from optraj.viz.robot_geometry import LINK_COLOURS, robot_geometry, sizes_of
 
 
