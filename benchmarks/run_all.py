@@ -1,8 +1,8 @@
 """Every benchmark in one run: time-optimal profiles, pool strikes, tracking; tables and plots.
 
-Runs ``time_optimal.py``, ``strike.py``, ``tracking.py``, ``outcome.py``, ``sweep.py`` and
-``peers.py`` (each writes its Markdown table into the output folder; ``outcome.py`` also draws
-``outcome_paths.png`` and ``outcome_heading.png``), then draws the plots (PNG) of the pool shot:
+Runs ``time_optimal.py``, ``strike.py``, ``tracking.py``, ``outcome.py``, ``sweep.py``,
+``peers.py`` and ``clearance.py`` (each writes its Markdown table into the output folder;
+``outcome.py`` also draws ``outcome_paths.png`` and ``outcome_heading.png``), then draws the plots (PNG) of the pool shot:
 
 * ``profiles.png``: the busiest joint of a Sawyer move by every joint-space planner;
 * ``strike_speed.png``: the cue tip speed of every strike planner that plans the shot;
@@ -28,6 +28,7 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+import clearance
 import outcome
 import peers
 import strike
@@ -52,6 +53,7 @@ BENCHMARKS: list[tuple[str, Callable[[list[str]], int], list[str]]] = [
     ("outcome", outcome.main, []),
     ("sweep", sweep.main, []),
     ("peers", peers.main, []),
+    ("clearance", clearance.main, []),
 ]
 
 
@@ -208,6 +210,14 @@ def results_section(out: Path, plots: Path) -> str:
             "what its ratio divides in `benchmarks/results/peers.md`):",
             "",
             first_table(read["peers"]),
+            "",
+            f"**What the scene costs** (`{cite['clearance']}`; details in "
+            "`benchmarks/results/clearance.md`): the clearance check against the rest of the "
+            "checker, and pick-and-place with and without the scene,",
+            "",
+            first_table(read["clearance"]),
+            "",
+            first_table(read["clearance"], "## Pick-and-place"),
             "",
             END,
         ]

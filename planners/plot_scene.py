@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from optraj.problems import PickAndPlace, PoolStrike
+from optraj.problems.scenes import BALL_FROM_NEAR_END, TABLE_SIZE
 
 __all__ = [
     "BALL_FROM_NEAR_END",
@@ -31,10 +32,6 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
-#: Playing surface of a 9-ft pool table [m] (as physics.scene.TABLE_SIZE).
-TABLE_SIZE = (2.54, 1.27)
-#: The ball's distance in from the near cushion [m] (as physics.scene.BALL_FROM_NEAR_END).
-BALL_FROM_NEAR_END = 0.35
 #: Length of the arrow of the shot's heading, drawn from the ball [m].
 HEADING_ARROW = 0.25
 #: Smallest half-size of a view [m].

@@ -19,7 +19,12 @@ from optraj.problems.paddle_strike import PaddleStrike
 from optraj.problems.pick_and_place import PickAndPlace
 from optraj.problems.point_to_point import PointToPoint
 from optraj.problems.pool_strike import POOL_BALL_RADIUS, PoolStrike
-from optraj.problems.scenarios import ece486_paddle_strike, sawyer_pool_shot, youbot_two_blocks
+from optraj.problems.scenarios import (
+    block_clearance_scene,
+    ece486_paddle_strike,
+    sawyer_pool_shot,
+    youbot_two_blocks,
+)
 from optraj.problems.scene import AllowedPair, Attachment, Scene
 from optraj.problems.scene_distances import PairDistance, SceneCollision
 from optraj.problems.scene_shapes import Box, Cylinder, Plane, Sphere
@@ -49,6 +54,7 @@ __all__ = [
     "ToolPath",
     "ViaPoint",
     "Waypoints",
+    "block_clearance_scene",
     "ece486_paddle_strike",
     "floor",
     "pick_and_place_scene",

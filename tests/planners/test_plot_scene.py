@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 from optraj import physics, problems
-from optraj.physics import scene as physics_scene
 from optraj.planners import plot_scene, plot_style
 
 matplotlib = pytest.importorskip("matplotlib")
@@ -22,11 +21,6 @@ def _axes3d():
     plt = plot_style.pyplot()
     figure = plt.figure()
     return figure, figure.add_subplot(projection="3d")
-
-
-def test_the_table_numbers_are_the_physics_scenes():
-    assert plot_scene.TABLE_SIZE == physics_scene.TABLE_SIZE
-    assert plot_scene.BALL_FROM_NEAR_END == physics_scene.BALL_FROM_NEAR_END
 
 
 def test_view_box_is_a_cube_standing_on_the_floor():

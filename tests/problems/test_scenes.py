@@ -12,13 +12,6 @@ from optraj.problems import scenes
 from optraj.problems.scene_distances import SceneCollision
 
 
-def test_the_pool_table_numbers_are_the_physics_scenes():
-    from optraj.physics import scene as physics_scene
-
-    for name in ("TABLE_SIZE", "BALL_FROM_NEAR_END", "CUSHION_HEIGHT"):
-        assert getattr(scenes, name) == getattr(physics_scene, name), name
-
-
 def test_the_cloth_top_is_the_ball_bottom_and_the_tip_may_touch_the_ball():
     ball = np.array([0.75, 0.15, -0.05])
     table = problems.pool_table(ball, 0.028575)

@@ -70,16 +70,12 @@ def test_the_cue_tip_is_its_front_and_the_shaft_stays_behind_it():
     assert float(np.dot(T[:3, 3] - shaft_front, T[:3, 2])) > rc.CUE_TIP_RADIUS
 
 
-def test_the_viewer_and_the_physics_scene_use_the_same_numbers():
+def test_the_viewer_uses_the_collision_sizes():
     import importlib
-
-    from optraj.physics import scene as physics_scene
 
     robot_geometry = importlib.import_module("optraj.viz.robot_geometry")
 
     assert robot_geometry.sizes_of is rc.sizes_of
-    for name in ("CUE_TIP_RADIUS", "PADDLE_RADIUS", "PADDLE_THICKNESS", "PADDLE_BALL_RADIUS"):
-        assert getattr(rc, name) == getattr(physics_scene, name), name
 
 
 def test_a_robot_is_required():
