@@ -2,7 +2,8 @@
 
 Runs ``time_optimal.py``, ``strike.py``, ``tracking.py``, ``outcome.py``, ``sweep.py``,
 ``peers.py`` and ``clearance.py`` (each writes its Markdown table into the output folder;
-``outcome.py`` also draws ``outcome_paths.png`` and ``outcome_heading.png``), then draws the plots (PNG) of the pool shot:
+``outcome.py`` also draws ``outcome_paths.png`` and ``outcome_heading.png``), then draws the
+plots (PNG) of the pool shot:
 
 * ``profiles.png``: the busiest joint of a Sawyer move by every joint-space planner;
 * ``strike_speed.png``: the cue tip speed of every strike planner that plans the shot;
