@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from viz_support import object_paths
 
-from optraj import robots
+from optraj import planners, robots
 from optraj.errors import UnknownNameError, WorkspaceError
 
 README = (Path(__file__).resolve().parents[1] / "README.md").read_text()
@@ -82,6 +82,12 @@ def test_every_python_block_runs():
     assert "MeshCat.Viewer" in page
     for name in ("robot/visuals/tool/cue", "scene/table/cloth", "scene/ball_path/0"):
         assert f"/meshcat/optraj/{name}" in object_paths(page), name
+    # The scene block's comments.
+    carried, task = namespace["carried"], namespace["task"]
+    assert planners.check(carried, task)["clearance"].ok
+    dragged = namespace["dragged"]["clearance"]
+    assert not dragged.ok and dragged.value == pytest.approx(-0.0018, abs=5e-5)
+    assert dragged.detail.startswith("tool/finger_left to block_0") and 8.2 < dragged.time < 8.4
     # The MuJoCo block's comments.
     ball, alone = namespace["ball"], namespace["alone"]
     assert ball.within and alone.within
