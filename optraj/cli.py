@@ -276,7 +276,7 @@ def _bench_folder(given: str | None) -> Path:
 
     if given is None:
         return Path(tempfile.mkdtemp(prefix="optraj-bench-"))
-    return output_folder(given)
+    return output_folder(given).resolve()
 
 
 def _cmd_bench(args: argparse.Namespace, out: TextIO) -> int:

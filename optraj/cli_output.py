@@ -127,7 +127,7 @@ def output_folder(folder: str | Path) -> Path:
     Raises:
         InvalidInputError: The folder cannot be created (the message names ``--out``).
     """
-    path = Path(folder).resolve()
+    path = Path(folder)
     try:
         path.mkdir(parents=True, exist_ok=True)
     except OSError as exc:

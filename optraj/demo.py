@@ -82,32 +82,38 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
         planner_section(problem, attempts, out)
         tracked, runs = tracking_section(problem, progress, out)
         ball = None if tracked is None else ball_section(problem, tracked, progress, out)
-        _other_tasks(progress, out)
+        carried = _other_tasks(progress, out)
         progress("writing plots and plans")
         plans = {a.key: a.traj for a in attempts if a.traj is not None}
         written = _write_files(out_dir, problem, plans, tracked, runs, ball, out)
+        page = viewer_file(out_dir / "pick-and-place.html", *carried, None)
+        written += [] if page is None else [page]
     finally:
         progress.done()
     _next_files(out_dir, written, out)
     return 0
 
 
-def _other_tasks(progress: Any, out: TextIO) -> None:
-    """The checker's verdict on the youBot pick and place and the ECE486 paddle task."""
+def _other_tasks(progress: Any, out: TextIO) -> tuple[Any, Any]:
+    """The checker's verdict on the youBot pick and place and the ECE486 paddle task.
+
+    Returns the pick-and-place problem and its quintic plan, for the 3-D view.
+    """
     from optraj import planners, problems
     from optraj.cli import describe_failures
 
     out.write("\nother tasks, judged by the same checker\n")
     progress("the youBot pick and place")
-    task = problems.youbot_two_blocks()
+    task = problems.youbot_two_blocks(with_scene=True)
+    plans = {}
     for planner in (planners.Quintic(), planners.LSPB()):
-        traj = planners.PickAndPlacePlanner(planner).plan(task)
+        traj = plans[planner.name] = planners.PickAndPlacePlanner(planner, vertical=True).plan(task)
         quantities = QUANTITIES_OF.get(planner.name)
         report = planners.check(traj, task, quantities=quantities)
         verdict = "ok" if report.ok else f"FAIL: {describe_failures(report)}"
         out.write(
-            f"  youBot pick and place of two blocks, {planner.name} phases: {traj.duration:.3f} s, "
-            f"{verdict}\n"
+            f"  youBot pick and place of two blocks over their table, {planner.name} phases: "
+            f"{traj.duration:.3f} s, {verdict}\n"
         )
     progress("the ECE486 paddle task")
     paddle = problems.ece486_paddle_strike()
@@ -119,6 +125,7 @@ def _other_tasks(progress: Any, out: TextIO) -> None:
         f"  the ECE486 paddle task (paddle4 to the ball at ({x:g}, {y:g}, {z:g}) m, cubic, "
         f"{traj.duration:g} s): ends at q = ({end}), {'ok' if report.ok else 'FAIL'}\n"
     )
+    return task, plans["quintic"]
 
 
 #: What the pick-and-place plans are checked for: LSPB has no jerk to speak of.
@@ -148,25 +155,23 @@ def _write_files(
         path = out_dir / name
         traj.to_json(path)
         written.append(path)
-    viewer = viewer_file(out_dir, problem, tracked, ball)
+    viewer = viewer_file(out_dir / "pool-shot.html", problem, tracked, ball)
     if viewer is not None:
         written.append(viewer)
     return written
 
 
-def viewer_file(out_dir: Path, problem: Any, traj: Any, outcome: Any) -> Path | None:
-    """Write the 3-D view of the shot (a self-contained HTML file) and return its path.
+def viewer_file(path: Path, problem: Any, traj: Any, outcome: Any) -> Path | None:
+    """Write the 3-D view of a task (a self-contained HTML file) and return its path.
 
-    The robot with its cue, the table, the ball and its path, animated along ``traj``
-    (:func:`optraj.viz.write_html`). Returns None, writing nothing, when the ``viz`` extra
-    (meshcat) is not installed.
+    The robot with its tool and the task's scene (the table, the ball and its path; or the
+    blocks), animated along ``traj`` (:func:`optraj.viz.write_html`). Returns None, writing
+    nothing, when the ``viz`` extra (meshcat) is not installed.
     """
     from optraj import viz
 
     try:
-        return viz.write_html(
-            out_dir / "pool-shot.html", problem.robot, traj, problem=problem, outcome=outcome
-        )
+        return viz.write_html(path, problem.robot, traj, problem=problem, outcome=outcome)
     except MissingDependencyError:
         return None
 
@@ -178,7 +183,7 @@ def _next_files(out_dir: Path, written: list[Path], out: TextIO) -> None:
     pages = [p.name for p in written if p.suffix == ".html"]
     out.write(f"\nopen next (in {out_dir}/)\n")
     if pages:
-        out.write(f"  the shot in 3-D, in a browser: {', '.join(pages)}\n")
+        out.write(f"  3-D views, in a browser: {', '.join(pages)}\n")
     if plots:
         out.write(f"  plots: {', '.join(plots)}\n")
     if plans:
