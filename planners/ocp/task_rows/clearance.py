@@ -109,10 +109,12 @@ class ClearanceRows(TaskRows):
         floors = params["clearance_floor"]
         for node in range(1, nlp.layout.nodes):
             q, _, _ = nlp.state(node)
+            # Each frame's pose once per node: SX calls are inlined, not shared.
+            at_node = {f: (position(q), rotation(q)) for f, (position, rotation) in pose.items()}
             centres = []
             for sphere in self.spheres:
-                position, rotation = pose[sphere.frame]
-                centres.append(position(q) + rotation(q) @ ca.DM(sphere.offset))
+                p, r = at_node[sphere.frame]
+                centres.append(p + r @ ca.DM(sphere.offset))
             kept = len(self.spheres) - 1 if node in window else len(self.spheres)
             heights = ca.vertcat(*(c[2] for c in centres[:kept]))
             rows.add("clearance cloth", heights - floors[:kept], 0.0, np.inf, at=node)
