@@ -7,7 +7,9 @@ Import the planner from :mod:`optraj.planners`; the modules here hold its pieces
   ``guesses``: first guesses; ``problem``: the spec and the built NLP's data.
 * ``transcription``: the multiple-shooting NLP; ``structure``, ``rows``, ``parameters``:
   its shape, its constraint rows, its named parameters; ``task_rows/``: the problem's task
-  constraints as rows and bounds (``strike_line``, ``tool_contact``, ``boundary_state``).
+  constraints as rows and bounds (``strike_line``, ``tool_contact``, ``boundary_state``,
+  ``clearance``); ``clearance``: the spheres a pool strike keeps above the cloth and the
+  cue tip off the ball (``OptimalControl(clearance=...)``).
 * ``building``: grids, solver options and the first point; ``solve``: one solver call,
   warm or cold; ``solution``: reading the solver's point; ``budget``: the wall-time limit.
 * ``rounds`` and ``refinement``: solve, verify and refine until the plan holds;

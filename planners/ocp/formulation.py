@@ -14,6 +14,7 @@ from optraj.errors import (
     OptrajError,
     SolverError,
 )
+from optraj.planners.ocp.clearance import Clearance
 from optraj.planners.ocp.guesses import (
     move_guess,
     quintic_guess,
@@ -26,7 +27,12 @@ from optraj.planners.ocp.problem import (
     WarmStart,
 )
 from optraj.planners.ocp.refinement import fixed_name
-from optraj.planners.ocp.task_rows import StrikeLineRows, ToolContactRows
+from optraj.planners.ocp.task_rows import (
+    ClearanceRows,
+    StrikeLineRows,
+    TaskRows,
+    ToolContactRows,
+)
 from optraj.planners.strike.contact import (
     BRANCH_SPREAD,
     ContactChoice,
@@ -262,9 +268,15 @@ def lends_to(problem: PoolStrike, warm_start: Trajectory | None, choice: Contact
 
 
 def pool_spec(
-    problem: PoolStrike, choice: ContactChoice, warm_start: Trajectory | None = None
+    problem: PoolStrike,
+    choice: ContactChoice,
+    warm_start: Trajectory | None = None,
+    clearance: Clearance | None = None,
 ) -> Spec:
     """The pool strike's phases; the guess is a previous solution's, when one is given.
+
+    With ``clearance``, the spec also keeps the arm and cue above the cloth and the cue tip
+    behind the ball on the approach (:class:`planners.ocp.task_rows.ClearanceRows`).
 
     A previous pool solution (a re-plan's warm start, with its primal and dual values) also
     gives the phase durations the grid starts from, which saves the IK of the strike line
@@ -295,6 +307,9 @@ def pool_spec(
             joint_names=limits.names,
         )
     (strike,) = _constraints_of(problem, StrikeLine)
+    tasks: tuple[TaskRows, ...] = (StrikeLineRows.of(strike, phases),)
+    if clearance is not None:
+        tasks = (*tasks, ClearanceRows.of(problem, clearance, phases))
     return Spec(
         robot=problem.robot,
         limits=limits,
@@ -302,7 +317,7 @@ def pool_spec(
         durations=(None, problem.window, None),
         guess=guess,
         fixed=_boundary_states(problem, phases=len(phases)),
-        tasks=(StrikeLineRows.of(strike, phases),),
+        tasks=tasks,
         contact=choice,
     )
 
@@ -383,7 +398,7 @@ def problem_spec(planner: OptimalControl, problem: Any) -> Spec:
         )
         searched = time.perf_counter() - started
         spec = (
-            pool_spec(problem, choice)
+            pool_spec(problem, choice, clearance=planner.clearance)
             if isinstance(problem, PoolStrike)
             else paddle_spec(problem, choice)
         )

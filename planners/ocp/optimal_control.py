@@ -50,6 +50,7 @@ from optraj.planners.ocp.building import (
     nlp_options,
     phase_grids,
 )
+from optraj.planners.ocp.clearance import Clearance, checked_clearance
 from optraj.planners.ocp.failures import (
     solver_cause,
 )
@@ -177,6 +178,9 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
+#: The clearance a pool strike keeps by default (:class:`planners.ocp.clearance.Clearance`).
+DEFAULT_CLEARANCE = Clearance()
+
 
 class OptimalControl(CompiledCache):
     """Plan by constrained optimal control: multi-phase, jerk-limited, torque-aware.
@@ -229,6 +233,12 @@ class OptimalControl(CompiledCache):
             the NLPs included, in [1e-6, 86400]; None for no limit. The solver is stopped at
             its first iteration past it and the plan raises a ``SolverError`` with status
             :data:`BUDGET_SPENT`.
+        clearance: How far a pool strike keeps the arm and cue above the cloth (the plane
+            through the bottom of the ball) and the cue tip off the ball before the strike
+            line (:class:`planners.ocp.clearance.Clearance`: the cue's butt, middle and tip
+            1 cm above the cloth, the tip 1 cm off the ball, 3 mm more at the grid nodes, in
+            m; a wrist sphere on request), or None for no such rows. Other problems have
+            none.
     """
 
     caches = ("_compiled",)
@@ -279,6 +289,7 @@ class OptimalControl(CompiledCache):
         free_grid: bool = True,
         reuse_contact: bool = True,
         time_budget: float | None = TIME_BUDGET,
+        clearance: Clearance | None = DEFAULT_CLEARANCE,
     ) -> None:
         self.weights = objective_weights(objective)
         self.objective = objective if isinstance(objective, str) else dict(self.weights)
@@ -305,6 +316,7 @@ class OptimalControl(CompiledCache):
         self.free_grid = as_flag(free_grid, "free_grid")
         self.reuse_contact = as_flag(reuse_contact, "reuse_contact")
         self.time_budget = None if time_budget is None else as_duration(time_budget, "time_budget")
+        self.clearance = checked_clearance(clearance)
         self._compiled: dict[Structure, CompiledNLP] = {}
         self._lock = threading.Lock()
         self._window_check = WindowCheck()

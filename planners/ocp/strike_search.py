@@ -146,7 +146,8 @@ def attempt(
         The trajectory, or the solver's error for the caller to try another choice.
     """
     try:
-        traj = planner._plan(problem, pool_spec(problem, choice, warm_start), warm_start)
+        spec = pool_spec(problem, choice, warm_start, planner.clearance)
+        traj = planner._plan(problem, spec, warm_start)
     except SolverError as error:
         if error.status == BUDGET_SPENT:
             raise

@@ -40,7 +40,10 @@ each kind built from a constraint of the problem:
   every node of its window the tool origin on the schedule and the tool z axis on the line;
   the tool velocity at the window's entry and exit;
 * a tool contact (paddle, :class:`planners.ocp.task_rows.tool_contact.ToolContactRows`): the
-  velocity of a point ``offset`` along the tool z axis at the contact node.
+  velocity of a point ``offset`` along the tool z axis at the contact node;
+* a pool strike's clearance (:class:`planners.ocp.task_rows.clearance.ClearanceRows`):
+  spheres on the cue (and wrist) above the cloth at every node, the cue tip behind the ball
+  at the approach's nodes.
 
 Fixed boundary states, via points and the contact configuration are variable bounds, so one
 compiled NLP serves every problem with the same :class:`Structure`; the task rows' numbers

@@ -8,7 +8,9 @@ Each kind is built from a constraint object of ``problem.constraints()``
 * :class:`ToolContactRows` (:class:`problems.constraints.ToolContact`): the velocity of the
   contact point at the contact node;
 * :class:`FixedState` (:class:`problems.constraints.BoundaryState`): the start and goal
-  states, as variable bounds.
+  states, as variable bounds;
+* :class:`ClearanceRows` (a pool strike's cloth and ball, :mod:`planners.ocp.clearance`):
+  spheres on the arm and cue above the cloth, the cue tip behind the ball on the approach.
 
 The row kinds share the face of :class:`TaskRows`: named parameters, their values, and
 :meth:`TaskRows.add`, which :func:`planners.ocp.transcription.compile_nlp` calls in order.
@@ -16,10 +18,12 @@ The row kinds share the face of :class:`TaskRows`: named parameters, their value
 
 from optraj.planners.ocp.task_rows.base import TaskContext, TaskRows
 from optraj.planners.ocp.task_rows.boundary_state import FixedState
+from optraj.planners.ocp.task_rows.clearance import ClearanceRows
 from optraj.planners.ocp.task_rows.strike_line import StrikeLineRows, strike_node_rows
 from optraj.planners.ocp.task_rows.tool_contact import ToolContactRows
 
 __all__ = [
+    "ClearanceRows",
     "FixedState",
     "StrikeLineRows",
     "TaskContext",

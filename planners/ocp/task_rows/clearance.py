@@ -1,0 +1,127 @@
+r"""A pool strike's clearance as NLP rows: spheres above the cloth, the cue tip behind the ball.
+
+:class:`ClearanceRows` writes, at every node after the first (the first is the pinned
+start), one row per sphere of :func:`planners.ocp.clearance.pool_spheres`:
+:math:`c_z(q) \ge f_i`, the sphere's floor (cloth, radius, margin and node extra:
+:func:`planners.ocp.clearance.sphere_floors`), leaving out the cue tip at the nodes of the
+strike window (it meets the ball there); and at the approach's nodes after the first, one
+half-space row for the cue tip's sphere: :math:`d \cdot (c - b) \le -o`, the offset
+:math:`o` of :func:`planners.ocp.clearance.ball_offset`. The numbers are the NLP parameters
+``clearance_floor`` (one per sphere), ``clearance_ball``, ``clearance_direction`` and
+``clearance_behind``, so every shot with the same spheres shares one compiled NLP.
+
+Example::
+
+    rows = ClearanceRows.of(problem, Clearance(), ("approach", "strike", "stop"))
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import casadi as ca
+import numpy as np
+from numpy.typing import NDArray
+
+from optraj.planners.ocp.clearance import (
+    Clearance,
+    Sphere,
+    ball_offset,
+    pool_spheres,
+    sphere_floors,
+)
+from optraj.planners.ocp.task_rows.base import TaskContext, TaskRows
+from optraj.problems import PoolStrike
+
+if TYPE_CHECKING:
+    from optraj.planners.ocp.rows import Rows
+
+FloatArray = NDArray[np.float64]
+
+#: Most spheres of :func:`planners.ocp.clearance.pool_spheres` (the last is the cue tip):
+#: the size of the parameter ``clearance_floor``, whose unused entries are 0.
+SPHERES = 4
+
+
+@dataclass(frozen=True)
+class ClearanceRows(TaskRows):
+    """The clearance rows of a pool strike.
+
+    Attributes:
+        window: Index of the strike window's phase (the cue tip is free of the cloth rows
+            at its nodes).
+        spheres: The spheres (constants of the NLP: rows compare by them and the window).
+        floors: Lowest height of each sphere's centre [m], shape (:data:`SPHERES`,): the
+            spheres' first, then zeros.
+        ball: Ball centre [m], shape (3,).
+        direction: Shot direction (unit), shape (3,).
+        behind: Least distance of the tip sphere's centre behind the ball's centre along
+            the shot on the approach [m].
+    """
+
+    window: int
+    spheres: tuple[Sphere, ...]
+    floors: FloatArray = field(compare=False, repr=False)
+    ball: FloatArray = field(compare=False, repr=False)
+    direction: FloatArray = field(compare=False, repr=False)
+    behind: float = field(compare=False, repr=False)
+
+    parameters = (
+        ("clearance_floor", SPHERES),
+        ("clearance_ball", 3),
+        ("clearance_direction", 3),
+        ("clearance_behind", 1),
+    )
+
+    @classmethod
+    def of(cls, problem: PoolStrike, clearance: Clearance, phases: Sequence[str]) -> ClearanceRows:
+        """The rows of ``problem`` with the window in its phase ``"strike"`` of ``phases``."""
+        spheres = pool_spheres(problem.robot, wrist=clearance.wrist)
+        floors = np.zeros(SPHERES)
+        floors[: len(spheres)] = sphere_floors(problem, spheres, clearance)
+        return cls(
+            window=list(phases).index("strike"),
+            spheres=spheres,
+            floors=floors,
+            ball=np.asarray(problem.ball, dtype=float),
+            direction=np.asarray(problem.direction, dtype=float),
+            behind=ball_offset(problem, spheres[-1], clearance),
+        )
+
+    def values(self) -> dict[str, FloatArray]:
+        """The floors [m], the ball centre [m], the shot direction and the offset [m]."""
+        return {
+            "clearance_floor": self.floors,
+            "clearance_ball": self.ball,
+            "clearance_direction": self.direction,
+            "clearance_behind": np.array([self.behind]),
+        }
+
+    def add(self, rows: Rows, nlp: TaskContext) -> None:
+        """Sphere heights at every node but the first; the tip's half-space on the approach."""
+        symbolic, params = nlp.symbolic, nlp.parameters
+        frames = {s.frame for s in self.spheres}
+        pose = {f: (symbolic.frame_position(f), symbolic.frame_rotation(f)) for f in frames}
+        first = nlp.layout.first_node
+        window = range(int(first[self.window]), int(first[self.window + 1]) + 1)
+        floors = params["clearance_floor"]
+        for node in range(1, nlp.layout.nodes):
+            q, _, _ = nlp.state(node)
+            # Each frame's pose once per node: SX calls are inlined, not shared.
+            at_node = {f: (position(q), rotation(q)) for f, (position, rotation) in pose.items()}
+            centres = []
+            for sphere in self.spheres:
+                p, r = at_node[sphere.frame]
+                centres.append(p + r @ ca.DM(sphere.offset))
+            kept = len(self.spheres) - 1 if node in window else len(self.spheres)
+            heights = ca.vertcat(*(c[2] for c in centres[:kept]))
+            rows.add("clearance cloth", heights - floors[:kept], 0.0, np.inf, at=node)
+            if node < window[0]:
+                ahead = ca.dot(
+                    params["clearance_direction"], centres[-1] - params["clearance_ball"]
+                )
+                rows.add(
+                    "clearance ball", ahead + params["clearance_behind"], -np.inf, 0.0, at=node
+                )

@@ -1,0 +1,58 @@
+"""Tests of planners.ocp.task_rows.clearance."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from optraj import problems
+from optraj.planners.ocp.clearance import Clearance, sphere_centres
+from optraj.planners.ocp.optimal_control import OptimalControl
+from optraj.planners.ocp.task_rows import ClearanceRows
+
+PHASES = ("approach", "strike", "stop")
+
+
+def _group_rows(built, name: str) -> list[int]:
+    """The node of every row of group ``name``."""
+    rows = [i for group, a, b in built.compiled.groups if group == name for i in range(a, b)]
+    return built.compiled.row_at[rows].tolist()
+
+
+def test_rows_of_shots_with_the_same_spheres_share_one_nlp_shape():
+    near = ClearanceRows.of(problems.sawyer_pool_shot(1.0), Clearance(), PHASES)
+    far = ClearanceRows.of(
+        problems.sawyer_pool_shot(0.5, ball=(0.8, 0.0, -0.08)), Clearance(), PHASES
+    )
+    assert near == far and hash(near) == hash(far)
+    assert near.values()["clearance_ball"].tolist() != far.values()["clearance_ball"].tolist()
+    wrist = ClearanceRows.of(problems.sawyer_pool_shot(1.0), Clearance(wrist=True), PHASES)
+    assert wrist != near  # another sphere: another NLP
+
+
+def test_the_parameters_are_the_cloth_floors_ball_and_offset():
+    shot = problems.sawyer_pool_shot(1.0)
+    clearance = Clearance(margin=0.02, ball_gap=0.015, node_extra=0.001)
+    values = ClearanceRows.of(shot, clearance, PHASES).values()
+    cloth = shot.ball[2] - shot.ball_radius
+    radii = np.array([0.0065, 0.0065, 0.006])
+    start = sphere_centres(
+        shot.robot, ClearanceRows.of(shot, clearance, PHASES).spheres, shot.q_start
+    )
+    wanted = np.minimum(cloth + radii + 0.021, start[0, :, 2])
+    np.testing.assert_allclose(values["clearance_floor"], [*wanted, 0.0], atol=1e-12)
+    np.testing.assert_allclose(values["clearance_ball"], shot.ball, atol=0)
+    np.testing.assert_allclose(values["clearance_direction"], shot.direction, atol=0)
+    np.testing.assert_allclose(values["clearance_behind"], [shot.ball_radius + 0.006 + 0.016])
+
+
+def test_the_nlp_has_cloth_rows_at_every_node_but_the_first_and_ball_rows_on_the_approach():
+    shot = problems.sawyer_pool_shot(1.0)
+    built = OptimalControl(intervals={"approach": 6, "strike": 4, "stop": 5}).build(shot)
+    cloth = _group_rows(built, "clearance cloth")
+    # 3 spheres at nodes 1..15, the tip left out at the 5 window nodes 6..10
+    assert len(cloth) == 3 * 15 - 5
+    assert sorted(set(cloth)) == list(range(1, 16))
+    assert [cloth.count(node) for node in range(6, 11)] == [2] * 5
+    assert _group_rows(built, "clearance ball") == [1, 2, 3, 4, 5]
+    plain = OptimalControl(clearance=None).build(shot)
+    assert not any(name.startswith("clearance") for name, _, _ in plain.compiled.groups)
