@@ -13,6 +13,7 @@ True
 from optraj.planners import arrays as arrays
 from optraj.planners.base import JointProfile, Planner
 from optraj.planners.checker import Finding, Report, check
+from optraj.planners.ocp.clearance import Clearance
 from optraj.planners.ocp.optimal_control import OptimalControl, OptimalControlProblem
 from optraj.planners.profiles.cartesian import (
     CartesianStraightLine,
@@ -44,6 +45,7 @@ __all__ = [
     "LSPB",
     "CartesianStraightLine",
     "ClassicStrike",
+    "Clearance",
     "ContactChoice",
     "Cubic",
     "Finding",

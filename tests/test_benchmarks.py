@@ -150,7 +150,7 @@ def test_tracking_quick_run_writes_its_tables(tmp_path, monkeypatch):
 @pytest.mark.slow
 def test_run_all_runs_each_benchmark_draws_the_plots_and_rewrites_the_readme(tmp_path, monkeypatch):
     module = _load("run_all", monkeypatch)
-    module_names = ["time_optimal", "strike", "tracking", "outcome", "sweep", "peers"]
+    module_names = ["time_optimal", "strike", "tracking", "outcome", "sweep", "peers", "clearance"]
     calls = []
 
     def fake(name):
@@ -164,7 +164,8 @@ def test_run_all_runs_each_benchmark_draws_the_plots_and_rewrites_the_readme(tmp
                 f"| d |\n|---|\n| {name} timing |\n\n## Targets\n\n"
                 f"| e |\n|---|\n| {name} targets |\n\n## Throughput\n\n"
                 f"| f |\n|---|\n| {name} throughput |\n\n## A million shots\n\n"
-                f"| g |\n|---|\n| {name} million |\n"
+                f"| g |\n|---|\n| {name} million |\n\n## Pick-and-place\n\n"
+                f"| h |\n|---|\n| {name} pick |\n"
             )
             return 0
 
