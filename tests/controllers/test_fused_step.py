@@ -307,7 +307,9 @@ def test_closed_loop_commands_equal_the_pieces(strikes, case):
         )
         for evaluation in ("pieces", "fused")
     }
-    np.testing.assert_allclose(runs["fused"].command, runs["pieces"].command, rtol=0, atol=1e-9)
+    # A closed loop carries the round-off of the two evaluation orders forward (noise makes
+    # every step different): 7e-8 rad/s at most over the 1.9 s noisy run.
+    np.testing.assert_allclose(runs["fused"].command, runs["pieces"].command, rtol=0, atol=1e-6)
     # The run exercises the limits where it should: commands on a velocity bound.
     if case == "at the limits":
         on_bound = np.isclose(np.abs(runs["fused"].command), robot.limits.velocity, rtol=1e-9)

@@ -86,7 +86,8 @@ def test_near_a_singularity_the_pseudo_inverse_runs_away_and_the_qp_does_not():
     shot = problems.sawyer_pool_shot(
         1.0, (0.7710112507659702, 0.17329880327591624, -0.03235497561872118), -13.968479233265253
     )
-    traj = planners.OptimalControl("time").plan(
+    # Planned without the cloth and ball clearance rows: the path this scenario was found on.
+    traj = planners.OptimalControl("time", clearance=None).plan(
         dataclasses.replace(shot, limits=robot.limits.scaled(0.8))
     )
 

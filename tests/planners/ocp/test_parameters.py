@@ -40,7 +40,8 @@ def test_a_pool_nlp_reads_its_strike_line_by_name():
     problem = problems.sawyer_pool_shot(1.0)
     built = OptimalControl("time").build(problem)
     names = built.compiled.parameters.names
-    assert names == ("time_scale", "entry", "direction", "e1", "e2", "speed", "torque")
+    clearance = ("clearance_floor", "clearance_ball", "clearance_direction", "clearance_behind")
+    assert names == ("time_scale", "entry", "direction", "e1", "e2", "speed", *clearance, "torque")
     np.testing.assert_array_equal(built.parameter("entry"), problem.entry_point)
     np.testing.assert_array_equal(built.parameter("direction"), problem.direction)
     assert built.parameter("speed").tolist() == [1.0]
