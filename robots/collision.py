@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import coal
 import numpy as np
 import pinocchio as pin
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
 from optraj.robots.loading import SAWYER_CUE_RADIUS
@@ -210,9 +210,17 @@ def tool_mount(robot: Robot) -> pin.SE3:
     return model.frames[robot.tool_frame_id].placement
 
 
-def along(axis: FloatArray) -> FloatArray:
-    """A rotation whose z axis is ``axis`` (normalised, non-zero), shape (3, 3)."""
-    z = np.asarray(axis, dtype=float) / float(np.linalg.norm(axis))
+def along(axis: ArrayLike) -> FloatArray:
+    """A rotation whose z axis is ``axis`` (normalised), shape (3, 3).
+
+    Raises:
+        InvalidInputError: An axis shorter than 1e-12 (no direction).
+    """
+    z = np.asarray(axis, dtype=float)
+    norm = float(np.linalg.norm(z))
+    if norm < 1e-12:
+        raise InvalidInputError(f"axis {z.tolist()} has no direction", name="axis")
+    z = z / norm
     helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
     x = np.cross(helper, z)
     x /= np.linalg.norm(x)

@@ -28,6 +28,7 @@ from optraj.robots.collision import (
     PALM_SIZE,
     Sizes,
     sizes_of,
+    tool_mount,
 )
 from optraj.robots.loading import SAWYER_CUE_RADIUS as CUE_SHAFT_RADIUS
 from optraj.robots.paddle_ik import BALL_OFFSET
@@ -103,7 +104,7 @@ def robot_geometry(robot: Robot) -> pin.GeometryModel:
             _rod(geometry, f"rail_{j}", parent, start, end, sizes.rail, RAIL_COLOUR, capsule=False)
     last = model.njoints - 1
     tool = model.frames[robot.tool_frame_id]
-    mount = _tool_mount(robot)
+    mount = tool_mount(robot)
     _rod(geometry, "link_tool", last, np.zeros(3), mount.translation, radius(last), colour(last))
     tool_parts = {"sawyer": _cue, "paddle4": _paddle, "youbot": _gripper}.get(robot.name)
     if tool_parts is None:
@@ -124,20 +125,6 @@ def _axis(model: pin.Model, joint: int) -> tuple[str, FloatArray]:
     if np.linalg.norm(S[3:]) > 0.5:
         return "revolute", S[3:] / np.linalg.norm(S[3:])
     return "prismatic", S[:3] / np.linalg.norm(S[:3])
-
-
-def _tool_mount(robot: Robot) -> pin.SE3:
-    """Where the tool is held, in the last joint's frame.
-
-    The link that carries the tool frame (Sawyer's right_hand, the youBot's gripper palm),
-    or the tool frame itself.
-    """
-    model = robot.model
-    frames = {"sawyer": "right_hand", "youbot": "gripper_palm_link"}
-    name = frames.get(robot.name)
-    if name is not None and model.existFrame(name):
-        return model.frames[model.getFrameId(name)].placement
-    return model.frames[robot.tool_frame_id].placement
 
 
 def _add(

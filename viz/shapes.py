@@ -14,7 +14,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from optraj.errors import InvalidInputError
+from optraj.robots.collision import along
 
 __all__ = ["Kind", "Shape", "along", "box", "polyline", "segment", "sphere"]
 
@@ -52,23 +52,6 @@ def _translation(point: ArrayLike) -> FloatArray:
     T = np.eye(4)
     T[:3, 3] = np.asarray(point, dtype=float)
     return T
-
-
-def along(axis: ArrayLike) -> FloatArray:
-    """A rotation whose z axis is ``axis`` (normalised), shape (3, 3).
-
-    Raises:
-        InvalidInputError: A zero axis.
-    """
-    z = np.asarray(axis, dtype=float)
-    norm = float(np.linalg.norm(z))
-    if norm < MIN_LENGTH:
-        raise InvalidInputError(f"axis {z.tolist()} has no direction", name="axis")
-    z = z / norm
-    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    x = np.cross(helper, z)
-    x /= np.linalg.norm(x)
-    return np.column_stack([x, np.cross(z, x), z])
 
 
 def box(name: str, centre: ArrayLike, lengths: ArrayLike, rgba: Rgba) -> Shape:
