@@ -16,6 +16,7 @@ from optraj.problems.common import (
     resolve_limits,
 )
 from optraj.problems.constraints import BoundaryState, Constraint
+from optraj.problems.scene import Scene
 from optraj.robots import JointLimits, Robot
 from optraj.validation import as_duration, as_vector
 
@@ -93,6 +94,8 @@ class PointToPoint:
         duration: Fixed duration [s], or None for as fast as the limits allow.
         limits: Limits to plan for; the robot's when None.
         tolerance: Allowed boundary-state deviation for the checker.
+        scene: The robot's surroundings, or None: the goal must be clear of it, and the checker
+            then reports the trajectory's ``clearance`` to it.
 
     A goal that equals the start (within :data:`STILL_TOLERANCE`) is a valid problem; a
     planner refuses it at planning time (:meth:`require_motion`) when it starts and ends at
@@ -109,6 +112,7 @@ class PointToPoint:
     duration: float | None = None
     limits: JointLimits = None  # type: ignore[assignment]  # None: the robot's (__init__)
     tolerance: float = 1e-6
+    scene: Scene | None = None
 
     def __init__(
         self,
@@ -122,14 +126,17 @@ class PointToPoint:
         duration: float | None = None,
         limits: JointLimits | None = None,
         tolerance: float = 1e-6,
+        scene: Scene | None = None,
     ) -> None:
         """Check the states against the limits and store them as float arrays.
 
         Raises:
             JointLimitError: A position, velocity or acceleration beyond its limit.
             InvalidInputError: Not a robot, limits for other joints, wrong shapes,
-                non-finite values, a duration outside [MIN_DURATION, MAX_DURATION] s or a
-                negative tolerance.
+                non-finite values, a duration outside [MIN_DURATION, MAX_DURATION] s, a
+                negative tolerance, or a scene that is not a :class:`Scene`.
+            CollisionError: With a scene, the goal configuration puts the robot inside it
+                (the message names the pair).
         """
         limits = resolve_limits(check_robot(robot), limits)
         n = limits.n
@@ -158,7 +165,10 @@ class PointToPoint:
             duration=duration,
             limits=limits,
             tolerance=non_negative(tolerance, "tolerance", ""),
+            scene=scene,
         )
+        if scene is not None:
+            _require_clear_goal(robot, scene, q1)
 
     @property
     def at_rest(self) -> bool:
@@ -203,3 +213,14 @@ class PointToPoint:
             BoundaryState("start", self.q_start, self.qd_start, self.qdd_start, self.tolerance),
             BoundaryState("end", self.q_goal, self.qd_goal, self.qdd_goal, self.tolerance),
         )
+
+
+def _require_clear_goal(robot: Robot, scene: object, q_goal: FloatArray) -> None:
+    """CollisionError naming the pair when ``q_goal`` puts ``robot`` inside ``scene``."""
+    from optraj.problems.scene_distances import SceneCollision
+
+    if not isinstance(scene, Scene):
+        raise InvalidInputError(
+            f"scene must be a problems.Scene or None, got {type(scene).__name__}", name="scene"
+        )
+    SceneCollision(robot, scene).require_clear(q_goal, "q_goal")

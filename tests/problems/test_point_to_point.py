@@ -7,8 +7,8 @@ import pytest
 from conftest import get_robot
 
 from optraj import planners
-from optraj.errors import InvalidInputError, JointLimitError
-from optraj.problems import BoundaryState, PointToPoint
+from optraj.errors import CollisionError, InvalidInputError, JointLimitError
+from optraj.problems import BoundaryState, Box, PointToPoint, Scene
 from optraj.problems.point_to_point import STILL_TOLERANCE, is_still
 
 
@@ -203,3 +203,32 @@ def test_float_arrays_and_lists_give_the_same_problem_or_error_on_seeded_random_
         arrays = _construction(robot, **states)
         lists = {k: None if v is None else v.tolist() for k, v in states.items()}
         assert arrays == _construction(robot, **lists)
+
+
+def _crate_at_the_tool(robot, q):
+    """A 10 cm crate around the tool point of ``q``."""
+    pose = np.eye(4)
+    pose[:3, 3] = robot.tool_pose(q)[:3, 3]
+    return Scene(objects=(Box("crate", [0.05, 0.05, 0.05], pose),))
+
+
+def test_a_goal_inside_an_obstacle_is_refused_naming_the_pair():
+    robot = get_robot("sawyer")
+    goal = robot.home + 0.3
+    scene = _crate_at_the_tool(robot, goal)
+    with pytest.raises(CollisionError, match="crate") as caught:
+        PointToPoint(robot, robot.home, goal, scene=scene)
+    assert "q_goal" in str(caught.value)
+    # The same crate around the start's tool point: the goal is clear, the problem is made,
+    # and the checker measures a trajectory that starts inside the crate.
+    problem = PointToPoint(robot, goal, robot.home, scene=scene)
+    traj = planners.Quintic().plan(problem)
+    clearance = planners.check(traj, problem)["clearance"]
+    assert not clearance.ok and clearance.time == pytest.approx(0.0, abs=1e-3)
+    assert "crate" in clearance.detail
+
+
+def test_a_scene_must_be_a_scene():
+    robot = get_robot("sawyer")
+    with pytest.raises(InvalidInputError, match=r"scene must be a problems\.Scene"):
+        PointToPoint(robot, robot.home, robot.home + 0.1, scene="table")
