@@ -31,13 +31,14 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
+from optraj.errors import InvalidInputError
 from optraj.planners.checker.context import CheckContext
 from optraj.planners.checker.polynomials import bernstein, evaluate_piecewise, segment_index
 from optraj.planners.checker.report import Finding
 from optraj.planners.checker.task import Evaluation, missing_findings, task_finding
 from optraj.problems.scene_distances import SceneCollision
 
-__all__ = ["MAX_HALVINGS", "RATIO_SCALE", "clearance_check", "joint_reach"]
+__all__ = ["MAX_HALVINGS", "RATIO_SCALE", "clearance_check", "clearance_pair", "joint_reach"]
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -213,6 +214,24 @@ class _Run:
             best = min(best, (dm, pm, tm))
             stack.extend([(t0, d0, tm, dm, depth + 1), (tm, dm, t1, d1, depth + 1)])
         return low, best
+
+
+def clearance_pair(finding: Finding) -> tuple[str, str]:
+    """The two shapes of a ``clearance`` finding, read back from its detail.
+
+    The detail is written above as ``"<first> to <second>: ..."``; this reads that form.
+
+    Raises:
+        InvalidInputError: Not a clearance finding, or one with no pair ("no pair to check").
+    """
+    head, written, _ = finding.detail.partition(": ")
+    first, _, second = head.partition(" to ")
+    if finding.name != "clearance" or not written or not first or not second:
+        raise InvalidInputError(
+            f"not a clearance finding with a pair: {finding.name!r}, {finding.detail!r}",
+            name="finding",
+        )
+    return first, second
 
 
 def _with(finding: Finding, *, margin: float, ratio: float) -> Finding:

@@ -21,6 +21,7 @@ from numpy.typing import ArrayLike
 from optraj.errors import CollisionError
 from optraj.planners.base import JointProfile
 from optraj.planners.checker import check
+from optraj.planners.checker.clearance import clearance_pair
 from optraj.planners.profiles.cartesian import CartesianStraightLine
 from optraj.planners.profiles.lspb import LSPB
 from optraj.planners.profiles.time_scaling import Cubic
@@ -83,8 +84,7 @@ def require_clear(traj: Trajectory, problem: PickAndPlace, rate: float = GUARD_R
     finding = check(traj, problem, rate=rate, quantities=[])["clearance"]
     if finding.value >= 0.0 or finding.time is None:
         return
-    # The finding's detail starts "<first> to <second>: ..." (planners.checker.clearance).
-    first, second = finding.detail.split(":", 1)[0].split(" to ", 1)
+    first, second = clearance_pair(finding)
     phase = next((p.name for p in traj.phases if p.t_start <= finding.time <= p.t_end), "")
     raise CollisionError(
         first, second, finding.value, what=f"the plan at t = {finding.time:.4g} s ({phase})"

@@ -10,7 +10,8 @@ from checker_support import quintic
 from conftest import get_robot
 
 from optraj import planners, problems
-from optraj.planners.checker.clearance import joint_reach
+from optraj.errors import InvalidInputError
+from optraj.planners.checker.clearance import clearance_pair, joint_reach
 from optraj.problems import Attachment, Scene, SceneCollision, Sphere
 from optraj.problems.scene_shapes import translation
 
@@ -137,3 +138,19 @@ def test_a_scene_whose_pairs_may_all_touch_passes():
     scene = Scene((Sphere("post", 0.5),), allowed=(("*", "*"),))
     finding = planners.check(quintic(Q_A, Q_B, DURATION), robot, scene=scene)["clearance"]
     assert finding.ok and finding.detail == "no pair to check"
+
+
+def test_the_pair_is_read_back_from_a_finding_and_other_findings_are_refused():
+    robot = get_robot("sawyer")
+    start = robot.home + 0.3
+    crate = np.eye(4)
+    crate[:3, 3] = robot.tool_pose(start)[:3, 3]
+    scene = Scene(objects=(problems.Box("crate", [0.05, 0.05, 0.05], crate),))
+    traj = planners.Quintic().plan(problems.PointToPoint(robot, start, robot.home))
+    finding = planners.check(traj, robot, scene=scene)["clearance"]
+    first, second = clearance_pair(finding)
+    assert second == "crate" and first.startswith("tool/") and first in finding.detail
+    with pytest.raises(InvalidInputError, match="not a clearance finding"):
+        clearance_pair(dataclasses.replace(finding, detail="no pair to check"))
+    with pytest.raises(InvalidInputError, match="not a clearance finding"):
+        clearance_pair(planners.check(traj, robot)["velocity"])
