@@ -47,6 +47,7 @@ __all__ = [
     "SIZES",
     "RobotCollision",
     "Sizes",
+    "collision_geometry",
     "collision_model",
     "sizes_of",
 ]
@@ -148,6 +149,19 @@ def collision_model(robot: Robot) -> RobotCollision:
     Raises:
         InvalidInputError: ``robot`` is not a :class:`robots.Robot`.
     """
+    geometry = collision_geometry(robot)
+    return RobotCollision(robot, geometry, _allowed(robot, geometry))
+
+
+def collision_geometry(robot: Robot) -> pin.GeometryModel:
+    """The shapes of ``robot``, in a new model each call.
+
+    ``link_<j>`` capsules from joint j's parent to joint j (a cylinder on the base),
+    ``link_tool`` to the tool mount, and ``tool/...`` for the tool's parts.
+
+    Raises:
+        InvalidInputError: ``robot`` is not a :class:`robots.Robot`.
+    """
     if not isinstance(robot, Robot):
         raise InvalidInputError(
             f"robot must be a robots.Robot, got {type(robot).__name__}", name="robot"
@@ -169,7 +183,7 @@ def collision_model(robot: Robot) -> RobotCollision:
         _add(geometry, "tool/tip", tool.parentJoint, tool.placement, coal.Sphere(0.02))
     else:
         parts(geometry, tool.parentJoint, mount, tool.placement)
-    return RobotCollision(robot, geometry, _allowed(robot, geometry))
+    return geometry
 
 
 def _allowed(robot: Robot, geometry: pin.GeometryModel) -> frozenset[tuple[str, str]]:
