@@ -31,7 +31,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
 from optraj.errors import InvalidInputError
-from optraj.planners.trajectory import TIME_TOLERANCE, Trajectory
+from optraj.planners.trajectory import TIME_TOLERANCE, Trajectory, fitted_to
 from optraj.robots import Robot
 from optraj.validation import as_array, as_vector, ndim_of
 
@@ -237,16 +237,7 @@ def sample_references(robot: Robot, trajectory: Trajectory, times: ArrayLike) ->
         InvalidInputError: The trajectory's joint count differs from the robot's, a time
             lies outside the trajectory, or the inverse dynamics overflowed.
     """
-    if not isinstance(trajectory, Trajectory):
-        raise InvalidInputError(
-            f"trajectory must be a planners.Trajectory, got {type(trajectory).__name__}",
-            name="trajectory",
-        )
-    if trajectory.dof != robot.dof:
-        raise InvalidInputError(
-            f"the trajectory has {trajectory.dof} joints, robot {robot.name!r} has {robot.dof}",
-            name="trajectory",
-        )
+    fitted_to(trajectory, robot)
     t = as_vector(times, "times")
     sample = trajectory.sample(t)
     poses = robot.tool_pose(sample.q)

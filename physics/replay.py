@@ -24,7 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 from optraj.errors import InvalidInputError
 from optraj.physics.contact_watch import ContactWatch
 from optraj.physics.scene import StrikeScene, World
-from optraj.planners.trajectory import Trajectory
+from optraj.planners.trajectory import Trajectory, fitted_to
 from optraj.validation import as_number, as_positive, as_vector
 
 __all__ = ["replay", "straight_cue"]
@@ -108,17 +108,8 @@ def replay(scene: StrikeScene, trajectory: Trajectory, *, settle: float = 0.05) 
         InvalidInputError: A bad settle, or a trajectory for another joint count.
     """
     settle = as_number(settle, "settle", "s", minimum=0.0, maximum=MAX_SETTLE)
-    if not isinstance(trajectory, Trajectory):
-        raise InvalidInputError(
-            f"trajectory must be a planners.Trajectory, got {type(trajectory).__name__}",
-            name="trajectory",
-        )
     robot = scene.robot
-    if trajectory.dof != robot.dof:
-        raise InvalidInputError(
-            f"the trajectory has {trajectory.dof} joints, robot {robot.name!r} has {robot.dof}",
-            name="trajectory",
-        )
+    fitted_to(trajectory, robot)
     world = scene.as_kinematic().build()
     data = mujoco.MjData(world.model)
     _place_ball(world, data)

@@ -11,10 +11,9 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
-from optraj.errors import InvalidInputError
 from optraj.planners.plot_scene import draw_scene, floor_height, scene_points, view_box
 from optraj.planners.plot_style import pyplot
-from optraj.planners.trajectory import Trajectory
+from optraj.planners.trajectory import Trajectory, fitted_to
 from optraj.robots import Robot
 from optraj.validation import as_count
 
@@ -77,11 +76,7 @@ def plot_robot(
         MissingDependencyError: matplotlib is not installed.
     """
     count = as_count(count, "count", 2, maximum=MAX_FIGURES)
-    if trajectory.dof != robot.dof:
-        raise InvalidInputError(
-            f"the trajectory has {trajectory.dof} joints, robot {robot.name!r} has {robot.dof}",
-            name="trajectory",
-        )
+    fitted_to(trajectory, robot)
     plt = pyplot()
     if ax is None:
         figure = plt.figure(figsize=(7.0, 6.4), layout="constrained")

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
-from typing import Any, cast
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -73,8 +73,12 @@ __all__ = [
     "Phase",
     "Trajectory",
     "TrajectorySample",
+    "fitted_to",
     "sampling_rate",
 ]
+
+if TYPE_CHECKING:
+    from optraj.robots import Robot
 
 FloatArray = NDArray[np.float64]
 
@@ -509,3 +513,22 @@ def _check_joinable(first: Trajectory, others: Sequence[object]) -> None:
                 f"cannot join trajectories of {first.dof} and {piece.dof} joints",
                 name="others",
             )
+
+
+def fitted_to(trajectory: object, robot: Robot) -> Trajectory:
+    """``trajectory``, checked to be a :class:`Trajectory` of ``robot``'s joint count.
+
+    Raises:
+        InvalidInputError: Not a Trajectory, or another joint count than the robot's.
+    """
+    if not isinstance(trajectory, Trajectory):
+        raise InvalidInputError(
+            f"trajectory must be a planners.Trajectory, got {type(trajectory).__name__}",
+            name="trajectory",
+        )
+    if trajectory.dof != robot.dof:
+        raise InvalidInputError(
+            f"the trajectory has {trajectory.dof} joints, robot {robot.name!r} has {robot.dof}",
+            name="trajectory",
+        )
+    return trajectory

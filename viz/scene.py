@@ -20,6 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from optraj.errors import InvalidInputError
 from optraj.physics import Outcome
 from optraj.planners import Trajectory
+from optraj.planners.trajectory import fitted_to
 from optraj.problems import PaddleStrike, PickAndPlace, PoolStrike
 from optraj.problems.common import unit_vector
 from optraj.robots import Robot
@@ -158,16 +159,7 @@ def _check(robot: Robot, trajectory: Trajectory, problem: object, outcome: objec
         raise InvalidInputError(
             f"robot must be a robots.Robot, got {type(robot).__name__}", name="robot"
         )
-    if not isinstance(trajectory, Trajectory):
-        raise InvalidInputError(
-            f"trajectory must be a planners.Trajectory, got {type(trajectory).__name__}",
-            name="trajectory",
-        )
-    if trajectory.dof != robot.dof:
-        raise InvalidInputError(
-            f"the trajectory has {trajectory.dof} joints, robot {robot.name!r} has {robot.dof}",
-            name="trajectory",
-        )
+    fitted_to(trajectory, robot)
     if problem is not None:
         if not isinstance(problem, (PoolStrike, PaddleStrike, PickAndPlace)):
             raise InvalidInputError(

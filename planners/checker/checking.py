@@ -33,7 +33,7 @@ from optraj.planners.checker.task import Evaluation
 from optraj.planners.checker.tool_contact import tool_contact_check
 from optraj.planners.checker.tool_path import tool_path_check, tool_speed_check
 from optraj.planners.checker.via_point import via_point_check
-from optraj.planners.trajectory import Trajectory, sampling_rate
+from optraj.planners.trajectory import Trajectory, fitted_to, sampling_rate
 from optraj.problems.constraints import BoundaryState, StrikeLine, ToolContact, ToolPath, ViaPoint
 from optraj.problems.scene import Scene
 from optraj.problems.scene_distances import SceneCollision
@@ -138,11 +138,7 @@ def check(
             name="trajectory",
         )
     robot, limits, constraints = _target(target)
-    if trajectory.dof != robot.dof:
-        raise InvalidInputError(
-            f"the trajectory has {trajectory.dof} joints, robot {robot.name!r} has {robot.dof}",
-            name="trajectory",
-        )
+    fitted_to(trajectory, robot)
     wanted = _quantities(quantities)
     rate = sampling_rate(rate, trajectory.duration, trajectory.dof)
     ctx = _context(trajectory, robot, limits, rate)
