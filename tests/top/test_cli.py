@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from cli_support import error_line
 from conftest import get_robot
 from viz_support import object_paths
 
@@ -45,12 +46,6 @@ def _row(text: str, label: str) -> str:
     return next(line for line in text.splitlines() if line.startswith(f"  {label} "))
 
 
-def _error_line(capsys) -> str:
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1, err
-    return err[0]
-
-
 # ------------------------------------------------------------------------------ demo
 
 
@@ -75,7 +70,7 @@ def test_robots_lists_names():
 def test_missing_optional_robot_fails_with_one_line(monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "example_robot_data", None)
     assert main(["robots", "panda"], out=io.StringIO()) == 2
-    line = _error_line(capsys)
+    line = error_line(capsys)
     assert line.startswith("optraj: error: robots.load('panda') needs the package")
 
 
@@ -274,7 +269,7 @@ def test_check_a_file_without_a_problem_uses_the_robot_limits(tmp_path, monkeypa
     traj = planners.Ruckig().plan(problems.PointToPoint(robot, robot.home, robot.home + 0.2))
     Path("bare.json").write_text(traj.to_json())
     assert main(["check", "bare.json"], out=io.StringIO()) == 2
-    assert "give --robot" in _error_line(capsys)
+    assert "give --robot" in error_line(capsys)
     out = io.StringIO()
     assert main(["check", "bare.json", "--robot", "sawyer"], out=out) == 0
     assert "its joint limits only" in out.getvalue()
@@ -352,7 +347,7 @@ def test_errors_exit_2_with_one_line(argv, expected, tmp_path, monkeypatch, caps
     except SystemExit as exc:  # argparse's own errors
         status = exc.code
     assert status == 2
-    line = _error_line(capsys)
+    line = error_line(capsys)
     assert line.startswith("optraj")
     assert expected in line
     assert list(tmp_path.iterdir()) == []
@@ -374,7 +369,7 @@ def test_check_of_a_bad_file_exits_2_with_one_line(text, expected, tmp_path, mon
     monkeypatch.chdir(tmp_path)
     Path("bad.json").write_bytes(text.encode("utf-8", "surrogateescape"))
     assert main(["check", "bad.json"], out=io.StringIO()) == 2
-    assert expected in _error_line(capsys)
+    assert expected in error_line(capsys)
 
 
 def _point_to_point_file(path: Path) -> planners.Trajectory:
@@ -413,7 +408,7 @@ def test_check_of_a_malformed_or_oversized_file_exits_2_with_one_line(
     text = json.dumps(data).replace('"@"', "[" * 100_000 + "]" * 100_000)
     Path("bad.json").write_text(text)
     assert main(["check", "bad.json"], out=io.StringIO()) == 2
-    assert expected in _error_line(capsys)
+    assert expected in error_line(capsys)
 
 
 def _with_options(data: dict, **options) -> dict:
@@ -428,10 +423,10 @@ def test_check_refuses_a_bad_rate_and_an_oversized_file(tmp_path, monkeypatch, c
     _point_to_point_file(Path("t.json"))
     assert main(["check", "t.json"], out=io.StringIO()) == 0
     assert main(["check", "t.json", "--rate", "1e300"], out=io.StringIO()) == 2  # not a traceback
-    assert _error_line(capsys) == "optraj: error: --rate must be <= 1e+06 Hz, got 1e+300 Hz"
+    assert error_line(capsys) == "optraj: error: --rate must be <= 1e+06 Hz, got 1e+300 Hz"
     monkeypatch.setattr(planners.trajectory, "MAX_JSON_BYTES", 1000)
     assert main(["check", "t.json"], out=io.StringIO()) == 2
-    assert "bytes, more than the 1000 bytes of any trajectory file" in _error_line(capsys)
+    assert "bytes, more than the 1000 bytes of any trajectory file" in error_line(capsys)
 
 
 def test_an_os_error_in_a_command_exits_2_with_one_line(capsys):
@@ -440,7 +435,7 @@ def test_an_os_error_in_a_command_exits_2_with_one_line(capsys):
             raise PermissionError(13, "Permission denied", "/some/file")
 
     assert main(["robots"], out=Denied()) == 2
-    assert _error_line(capsys) == "optraj: error: cannot use '/some/file': Permission denied"
+    assert error_line(capsys) == "optraj: error: cannot use '/some/file': Permission denied"
 
 
 def test_check_of_bad_problem_metadata_exits_2(tmp_path, monkeypatch, capsys):
@@ -450,7 +445,7 @@ def test_check_of_bad_problem_metadata_exits_2(tmp_path, monkeypatch, capsys):
     traj.metadata.update(robot="sawyer", problem="pool-shot", problem_options={"ball": "far"})
     traj.to_json("odd.json")
     assert main(["check", "odd.json"], out=io.StringIO()) == 2
-    assert _error_line(capsys).startswith("optraj: error: ")
+    assert error_line(capsys).startswith("optraj: error: ")
 
 
 # --------------------------------------------------------------------------------- bench
@@ -464,7 +459,7 @@ def _installed_at(monkeypatch, root: Path) -> None:
 def test_bench_without_the_source_checkout_exits_2(monkeypatch, capsys, tmp_path):
     _installed_at(monkeypatch, tmp_path)
     assert main(["bench", "--quick"], out=io.StringIO()) == 2
-    assert "benchmarks ship with the source checkout" in _error_line(capsys)
+    assert "benchmarks ship with the source checkout" in error_line(capsys)
 
 
 def test_bench_runs_the_runner_with_this_python_and_forwards_quick(monkeypatch, tmp_path):
@@ -511,7 +506,7 @@ def test_bench_finds_the_runner_next_to_the_packages(monkeypatch):
 def test_bench_refuses_an_out_folder_it_cannot_make(tmp_path, capsys):
     (tmp_path / "file").write_text("")
     assert main(["bench", "--out", str(tmp_path / "file" / "sub")], out=io.StringIO()) == 2
-    assert _error_line(capsys).startswith("optraj: error: argument --out: cannot create")
+    assert error_line(capsys).startswith("optraj: error: argument --out: cannot create")
 
 
 @pytest.mark.parametrize(
@@ -548,7 +543,7 @@ def test_every_error_names_its_option(argv, expected, tmp_path, monkeypatch, cap
     monkeypatch.chdir(tmp_path)
     _point_to_point_file(Path("t.json"))
     assert main(argv, out=io.StringIO()) == 2
-    assert expected in _error_line(capsys)
+    assert expected in error_line(capsys)
 
 
 @pytest.mark.parametrize(("robot", "pose"), [("sawyer", "neutral"), ("youbot", "candle")])
@@ -556,6 +551,6 @@ def test_a_goal_pose_that_renames_home_is_not_suggested(robot, pose, capsys):
     # Sawyer's neutral pose is its home (the intera SDK's neutral), as youBot's candle is.
     argv = ["plan", robot, "--problem", "point-to-point", "--planner", "cubic", "--q-goal", pose]
     assert main(argv, out=io.StringIO()) == 2
-    line = _error_line(capsys)
+    line = error_line(capsys)
     assert "the goal equals the start" in line and pose not in line.split("got")[0]
     assert "or a --duration to hold still" in line

@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from cli_support import error_line
 
 from optraj import sweeps
 from optraj.cli import main
@@ -23,12 +24,6 @@ SWEEP = ["map", "sawyer", "--grid", "2x2", "--x", "0.7,0.8", "--y", "0,0.2", "--
 def _run(argv: list[str]) -> tuple[int, str]:
     out = io.StringIO()
     return main(argv, out=out), out.getvalue()
-
-
-def _error_line(capsys) -> str:
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1, err
-    return err[0]
 
 
 @pytest.mark.slow
@@ -62,11 +57,11 @@ def test_paddle4_strikes_are_swept_and_judged_by_the_ball(tmp_path):
 def test_z_and_a_three_axis_grid_are_for_paddle4_only(capsys, tmp_path):
     out = str(tmp_path / "m.jsonl")
     assert main(["map", "sawyer", "--z", "0.1,0.2", "--out", out]) == 2
-    assert "--z is for paddle4's ball points" in _error_line(capsys)
+    assert "--z is for paddle4's ball points" in error_line(capsys)
     assert main(["map", "sawyer", "--grid", "2x2x2", "--out", out]) == 2
-    assert "--grid takes NXxNY" in _error_line(capsys)
+    assert "--grid takes NXxNY" in error_line(capsys)
     assert main(["map", "paddle4", "--grid", "2x2", "--out", out]) == 2
-    assert "--grid takes NXxNYxNZ" in _error_line(capsys)
+    assert "--grid takes NXxNYxNZ" in error_line(capsys)
 
 
 @pytest.mark.slow
@@ -125,7 +120,7 @@ def test_bad_arguments_exit_2_with_one_line_naming_the_value(
     except SystemExit as exc:  # argparse's own errors
         status = exc.code
     assert status == 2
-    line = _error_line(capsys)
+    line = error_line(capsys)
     assert line.startswith("optraj") and expected in line
     assert list(tmp_path.iterdir()) == []
 
