@@ -10,3 +10,17 @@ def error_line(capsys: pytest.CaptureFixture[str]) -> str:
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1, err
     return err[0]
+
+
+def refused(argv: list[str], capsys: pytest.CaptureFixture[str]) -> str:
+    """Run ``optraj argv``, require exit status 2, and return its one error line."""
+    import io
+
+    from optraj.cli import main
+
+    try:
+        status = main(argv, out=io.StringIO())
+    except SystemExit as exc:  # argparse's own errors
+        status = exc.code
+    assert status == 2
+    return error_line(capsys)

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from cli_support import error_line
+from cli_support import error_line, refused
 from conftest import get_robot
 from viz_support import object_paths
 
@@ -342,12 +342,7 @@ PLAN = ["plan", "sawyer", "--problem", "pool-shot", "--planner"]
 )  # fmt: skip
 def test_errors_exit_2_with_one_line(argv, expected, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
-    try:
-        status = main(argv, out=io.StringIO())
-    except SystemExit as exc:  # argparse's own errors
-        status = exc.code
-    assert status == 2
-    line = error_line(capsys)
+    line = refused(argv, capsys)
     assert line.startswith("optraj")
     assert expected in line
     assert list(tmp_path.iterdir()) == []

@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from cli_support import error_line
+from cli_support import error_line, refused
 
 from optraj import sweeps
 from optraj.cli import main
@@ -115,12 +115,7 @@ def test_bad_arguments_exit_2_with_one_line_naming_the_value(
     argv, expected, tmp_path, monkeypatch, capsys
 ):
     monkeypatch.chdir(tmp_path)
-    try:
-        status = main(argv, out=io.StringIO())
-    except SystemExit as exc:  # argparse's own errors
-        status = exc.code
-    assert status == 2
-    line = error_line(capsys)
+    line = refused(argv, capsys)
     assert line.startswith("optraj") and expected in line
     assert list(tmp_path.iterdir()) == []
 
