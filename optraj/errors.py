@@ -327,7 +327,10 @@ class PathJumpError(OptrajError):
 
 
 class CollisionError(OptrajError):
-    """Two shapes that may not touch overlap: a target inside an obstacle, or in the arm.
+    """Two shapes that may not touch overlap, or come nearer than a margin.
+
+    A target inside an obstacle or in the arm, or a strike no contact configuration of which
+    keeps the arm its margin clear of the scene.
 
     Attributes:
         first: The robot's shape, e.g. ``"tool/finger_left"`` or ``"link_3"``.
@@ -335,6 +338,7 @@ class CollisionError(OptrajError):
         distance: Their signed distance [m], negative: how deep they overlap.
         what: The configuration refused, e.g. ``"goal"`` or ``"pick 0"``.
         point: A witness point on ``first`` [m], world frame, or None.
+        required: The least distance they must keep [m] (the scene's margin; 0: not touch).
     """
 
     def __init__(
@@ -345,17 +349,22 @@ class CollisionError(OptrajError):
         *,
         what: str,
         point: Sequence[float] | None = None,
+        required: float = 0.0,
     ) -> None:
         self.first = first
         self.second = second
         self.distance = float(distance)
         self.what = what
         self.point = None if point is None else tuple(float(v) for v in point)
+        self.required = float(required)
         where = "" if self.point is None else f" at ({', '.join(f'{v:.4g}' for v in self.point)}) m"
+        if self.distance < 0.0:
+            how = f"overlaps {second!r} by {-self.distance * 1e3:.3g} mm"
+        else:
+            how = f"is only {self.distance * 1e3:.3g} mm from {second!r}"
         super().__init__(
-            f"{what} is in collision: {first!r} overlaps {second!r} by {-self.distance * 1e3:.3g} "
-            f"mm{where} (they may not touch; signed distance {self.distance:.4g} m, "
-            "required >= 0 m)"
+            f"{what} is in collision: {first!r} {how}{where} (signed distance "
+            f"{self.distance:.4g} m, required >= {self.required:.4g} m)"
         )
 
 

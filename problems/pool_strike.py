@@ -69,8 +69,9 @@ class PoolStrike:
         speed_tolerance: Allowed relative speed error [-].
         angle_tolerance: Allowed cue axis error [rad].
         scene: The surroundings (:class:`problems.Scene`, e.g. ``problems.pool_table(ball)``)
-            or None (the default: no scene). With one, a contact configuration in collision
-            is refused and ``planners.check`` adds its ``clearance`` finding.
+            or None (the default: no scene). With one, a cue in collision at contact is
+            refused, the contact choice keeps the arm the scene's margin clear of it at
+            contact, entry and exit, and ``planners.check`` adds its ``clearance`` finding.
 
     Derived: ``contact_point``, ``entry_point``, ``exit_point`` [m]; ``window`` (strike
     duration) and ``contact_delay`` [s]; ``q_contact``, an IK solution at contact near q_start
@@ -98,7 +99,7 @@ class PoolStrike:
         Raises:
             InvalidInputError: A bad field.
             UnreachableError: The strike line is out of reach.
-            CollisionError: With a scene, the contact configuration is in collision.
+            CollisionError: With a scene, the cue is in collision at contact.
         """
         robot = check_robot(self.robot)
         limits = resolve_limits(robot, self.limits)
@@ -156,8 +157,12 @@ class PoolStrike:
             solve_ik(robot, end, axis=direction, q_near=q_contact)
         set_(self, "q_contact", q_contact)
         if self.scene is not None:
-            # CollisionError if the cue or the arm is inside the scene at contact.
-            SceneCollision(robot, self.scene).require_clear(q_contact, "the strike contact")
+            # CollisionError if the cue is inside the scene at contact: the cue's place is
+            # the same on every IK branch (up to a turn about its axis). The arm's is not:
+            # the contact choice keeps the branches whose links clear the scene.
+            SceneCollision(robot, self.scene).require_clear(
+                q_contact, "the strike contact", shapes="tool/*"
+            )
 
     @property
     def contact_point(self) -> np.ndarray:

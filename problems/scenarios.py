@@ -14,13 +14,27 @@ from optraj.problems.paddle_strike import PaddleStrike
 from optraj.problems.pick_and_place import RETREAT, PickAndPlace
 from optraj.problems.pool_strike import PoolStrike
 from optraj.problems.scene import AllowedPair, Scene
-from optraj.problems.scenes import pick_and_place_scene
+from optraj.problems.scenes import pick_and_place_scene, pool_table
 from optraj.validation import as_number
 
 __all__ = ["block_clearance_scene", "ece486_paddle_strike", "sawyer_pool_shot", "youbot_two_blocks"]
 
 #: Clearance every robot shape keeps from every block it does not hold [m] (issue 37).
 BLOCK_CLEARANCE = 0.02
+#: Clearance between Sawyer's arm or cue and the pool table [m] (issue 37: 1 cm).
+TABLE_CLEARANCE = 0.01
+#: The cue's default angle below the horizontal over a table [deg]. Sawyer's wrist capsules
+#: lie on the cue axis up to 0.325 m behind the tip, 3.5 cm in radius: a level cue at the ball's
+#: height holds them 6 mm into the cloth, and a tilt of asin(16.4 mm / 0.325 m) = 2.9 deg lifts
+#: them 1 cm clear; 4 deg leaves room for the entry and exit of the strike line. The ball
+#: leaves along the heading all the same (the cloth takes the downward push).
+CUE_ELEVATION = 4.0
+#: Steepest cue accepted [deg]: a steeper cue drives the ball into the cloth (a masse shot).
+MAX_ELEVATION = 60.0
+#: Sawyer's home with the shoulder (right_j1) raised to -1.35 rad [rad]: the cue tip 62 mm
+#: above the cloth of the default shot's ball, 12.6 mm above that of the benchmarks' highest
+#: ball (z = 0); home holds it 5.7 mm below the default shot's cloth.
+SAWYER_CUE_UP = (0.0, -1.35, 0.0, 2.18, 0.0, 0.57, 3.3161)
 #: Name patterns of the robot's own shape pairs (robots.collision: links, then the tool's).
 _ROBOT_SELF = (("link_*", "link_*"), ("link_*", "tool/*"), ("tool/*", "tool/*"))
 
@@ -112,21 +126,51 @@ def sawyer_pool_shot(
     speed: float = 1.0,
     ball: tuple[float, float, float] = (0.75, 0.15, -0.05),
     heading_deg: float = 0.0,
+    *,
+    with_table: bool = False,
+    elevation_deg: float | None = None,
+    margin: float = TABLE_CLEARANCE,
 ) -> PoolStrike:
-    """A horizontal cue shot on Sawyer, ball ahead of the robot on a table below the base.
+    """A cue shot on Sawyer, ball ahead of the robot on a table below the base.
+
+    Without the table the cue is level and the arm starts at Sawyer's home. With it
+    (:func:`problems.pool_table` under the ball, every pair but the cue and the ball kept
+    ``margin`` apart) the cue's butt is raised by :data:`CUE_ELEVATION` (a level cue holds
+    Sawyer's wrist on the cloth) and the arm starts at :data:`SAWYER_CUE_UP`, the cue above
+    the cushions.
 
     Args:
         speed: Cue speed [m/s].
         ball: Ball centre in the base frame [m].
         heading_deg: Shot direction from +x about +z [deg].
+        with_table: Give the problem its pool table.
+        elevation_deg: Angle of the cue below the horizontal, butt up [deg], in [0, 60);
+            None: :data:`CUE_ELEVATION` with the table, 0 without.
+        margin: Least distance between the arm or cue and the table [m] (with the table).
 
     Raises:
-        InvalidInputError: A heading that is not a finite number, or bad speed or ball.
+        InvalidInputError: A heading or elevation that is not a finite number, bad speed,
+            ball or margin, or ``with_table`` not a bool.
+        CollisionError: With the table, the cue is in it at contact.
     """
+    if not isinstance(with_table, bool):
+        raise InvalidInputError(f"with_table must be a bool, got {with_table!r}", name="with_table")
     heading = np.radians(as_number(heading_deg, "heading_deg", "deg"))
-    return PoolStrike(
-        robots.load("sawyer"),
-        ball=_array(ball),
-        direction=_array((np.cos(heading), np.sin(heading), 0.0)),
-        speed=speed,
+    default = CUE_ELEVATION if with_table else 0.0
+    elevation = np.radians(
+        default
+        if elevation_deg is None
+        else as_number(elevation_deg, "elevation_deg", "deg", minimum=0.0, maximum=MAX_ELEVATION)
+    )
+    down = np.cos(elevation)
+    direction = (down * np.cos(heading), down * np.sin(heading), -np.sin(elevation))
+    robot = robots.load("sawyer")
+    shot = PoolStrike(robot, ball=_array(ball), direction=_array(direction), speed=speed)
+    if not with_table:
+        return shot
+    clearance = as_number(margin, "margin", "m", minimum=0.0, maximum=1.0)
+    return dataclasses.replace(
+        shot,
+        q_start=_array(SAWYER_CUE_UP),
+        scene=pool_table(shot.ball, shot.ball_radius, margin=clearance),
     )

@@ -18,6 +18,7 @@ Example::
 
 from __future__ import annotations
 
+import fnmatch
 from typing import NamedTuple
 
 import numpy as np
@@ -184,32 +185,41 @@ class SceneCollision:
         """The pairs checked without times: those the scene never allows."""
         return np.array([not phases for phases in self.windows], dtype=bool)
 
-    def distances(self, q: ArrayLike) -> list[PairDistance]:
+    def distances(self, q: ArrayLike, shapes: str = "*") -> list[PairDistance]:
         """Every pair checked at one configuration, nearest first.
 
         Objects are where the scene puts them; pairs allowed at some time are left out.
+
+        Args:
+            q: Configuration [rad or m], shape (n,).
+            shapes: Only the pairs whose first shape's name matches this shell pattern
+                (e.g. ``"tool/*"``); every pair by default.
 
         Raises:
             InvalidInputError: ``q`` is not a finite vector of the robot's size.
         """
         q = as_vector(q, "q", self.robot.dof)
         mask = self.static_mask()
+        if shapes != "*":
+            first = [fnmatch.fnmatchcase(self.pair_names(k)[0], shapes) for k in range(mask.size)]
+            mask &= np.array(first, dtype=bool)
         self.set_active(mask)
         self.compute(q)
         found = [self.pair_distance(k) for k in range(self.pair_count) if mask[k]]
         return sorted(found, key=lambda item: item.distance)
 
-    def require_clear(self, q: ArrayLike, what: str) -> None:
+    def require_clear(self, q: ArrayLike, what: str, shapes: str = "*") -> None:
         """Refuse a configuration in which two shapes that may not touch overlap.
 
         Args:
             q: Configuration [rad or m], shape (n,).
             what: What ``q`` is, for the message (e.g. ``"pick 0"``).
+            shapes: Only the pairs whose first shape matches this pattern (:meth:`distances`).
 
         Raises:
             CollisionError: The deepest overlapping pair, its depth and ``what``.
         """
-        found = self.distances(q)
+        found = self.distances(q, shapes)
         if found and found[0].distance < 0.0:
             nearest = found[0]
             raise CollisionError(

@@ -40,8 +40,10 @@ __all__ = [
 
 #: Playing surface of a 9-ft pool table [m] (WPA: 100 x 50 in).
 TABLE_SIZE = (2.54, 1.27)
-#: The table is placed with the ball this far in from the near cushion [m], centred across.
-BALL_FROM_NEAR_END = 0.35
+#: The table is placed with the ball this far in from the near cushion [m], centred across:
+#: on the head string, a quarter of the playing length from the head cushion (WPA), where a
+#: break is played from. Nearer, the wrist of an arm behind the cue reaches over the cushion.
+BALL_FROM_NEAR_END = 0.635
 #: Cushion nose height above the cloth [m] (WPA: 63.5 % of the ball diameter).
 CUSHION_HEIGHT = 0.0363
 #: The cloth's slab and the cushions' width [m], and how far the cloth runs under the
@@ -79,11 +81,13 @@ def pool_table(
     Objects: ``cloth`` (a slab whose top is the ball's bottom), ``cushion_far``,
     ``cushion_near``, ``cushion_left``, ``cushion_right``, ``ball``, ``floor``. The near
     cushion is ``near_end`` behind the ball along x, the table centred across on the ball
-    (the MuJoCo scene's placement by default). ``tool/tip`` may touch ``ball``.
+    (the MuJoCo scene's placement by default). The cue (``tool/*``) may touch ``ball``: the
+    tip strikes it, and the shaft follows through where it was.
 
-    With the MuJoCo placement a horizontal cue at the ball's height puts Sawyer's wrist in the
-    near cushion (a 0.3 m cue): a strike needs the ball further in (``near_end``) or a cue
-    that reaches over the cushion.
+    A horizontal cue at the ball's height cannot keep Sawyer's wrist clear of the cloth (its
+    capsules, 3 to 3.5 cm in radius, lie on the cue axis 2.9 cm above the cloth): raise the
+    cue's butt (``problems.sawyer_pool_shot(with_table=True)`` tilts it by
+    :data:`problems.scenarios.CUE_ELEVATION`).
 
     Args:
         ball: Ball centre [m], shape (3,).
@@ -120,7 +124,7 @@ def pool_table(
         objects.append(Sphere("ball", radius, translation(centre)))
     if floor_height is not None:
         objects.append(floor(floor_height))
-    return Scene(tuple(objects), allowed=(AllowedPair("tool/tip", "ball"),), margin=margin)
+    return Scene(tuple(objects), allowed=(AllowedPair("tool/*", "ball"),), margin=margin)
 
 
 def pick_and_place_scene(

@@ -3,7 +3,8 @@
 :func:`pool_choices` collects distinct inverse-kinematics (IK) solutions with the cue tip on
 the contact point and the cue along the shot, evaluates each one's strike window
 (:class:`planners.strike.pool_search.PoolSearch`), improves the best few by a pattern search
-along the self-motion, refuses the strike when even the fastest needs more than the velocity
+along the self-motion (with a scene, first until the arm clears it), keeps those clear of the
+scene, refuses the strike when even the fastest needs more than the velocity
 limits, and ranks the rest: among those with room to spare the one the arm reaches soonest,
 then the others by ratio. :func:`contact_near` re-plans without the search, following a previous
 contact configuration's IK branch to a strike that changed a little.
@@ -18,7 +19,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from optraj.errors import InfeasibleError, InvalidInputError
+from optraj.errors import CollisionError, InfeasibleError, InvalidInputError
 from optraj.planners.strike.contact_choice import ContactChoice, as_margin, too_fast_error
 from optraj.planners.strike.pool_search import PoolSearch, PoolWindow
 from optraj.problems import PoolStrike
@@ -79,11 +80,17 @@ def pool_choices(
     Raises:
         InfeasibleError: No candidate reaches the line's ends within the position limits, or
             even the fastest window needs more than the velocity limits.
+        CollisionError: With a scene, no candidate keeps the arm its margin clear of it at
+            contact, entry and exit (the pair of the clearest one).
     """
     search = PoolSearch(problem)
     found = _windows(problem, search, candidates, seed)
     seeds = _seeds(problem, found)
     windows = found + [search.improve(w, _TRIALS_PER_REFINEMENT) for w in seeds]
+    clear = [w for w in windows if w.clear]
+    if not clear:
+        raise _blocked_error(problem, min(windows, key=lambda w: w.rank), search)
+    windows = clear
     speed = float(problem.speed)
     fastest = min(windows, key=lambda w: w.r1)
     if speed * fastest.r1 > 1.0 - margin:
@@ -123,19 +130,36 @@ def _windows(
             f"line's entry and exit nearby within the position limits",
             limit="position",
         )
-    found.sort(key=lambda w: w.score)
+    found.sort(key=lambda w: w.rank)
     return found
 
 
+def _blocked_error(problem: PoolStrike, window: PoolWindow, search: PoolSearch) -> CollisionError:
+    """The refusal of a strike none of whose contact configurations clears the scene."""
+    first, second, place = window.nearest
+    scene = problem.scene
+    return CollisionError(
+        first,
+        second,
+        window.clearance,
+        what=f"the strike {place} of every contact configuration found ({search.evaluated} tried)",
+        required=0.0 if scene is None else float(scene.margin),
+    )
+
+
 def _seeds(problem: PoolStrike, found: list[PoolWindow]) -> list[PoolWindow]:
-    """The windows to improve: the best few on distinct branches, and the one nearest the start."""
+    """The windows to improve: the best few on distinct branches, and the one nearest the start.
+
+    With a scene, the nearest clear one when there is one.
+    """
     seeds: list[PoolWindow] = []
     for window in found:  # the best few, at least BRANCH_SPREAD apart (not one optimum thrice)
         if len(seeds) < _REFINED and all(
             np.abs(window.q - other.q).max() > BRANCH_SPREAD for other in seeds
         ):
             seeds.append(window)
-    nearest = min(found, key=lambda w: _reach(problem, w.q))
+    pool = [w for w in found if w.clear] or found
+    nearest = min(pool, key=lambda w: _reach(problem, w.q))
     if all(nearest is not other for other in seeds):
         seeds.append(nearest)
     return seeds
@@ -202,7 +226,8 @@ def contact_near(problem: PoolStrike, q: ArrayLike, *, margin: float = 0.0) -> C
     :func:`planners.strike.contact.choose_contact`. It is returned only when that search
     would count it fast enough with room to spare: the speed times the larger of its velocity
     ratio and its room-to-turn estimate at most :data:`HEADROOM` (90 %) of ``1 - margin``.
-    Otherwise None: run the search.
+    With a scene it must also keep the arm the scene's margin clear at contact, entry and
+    exit. Otherwise None: run the search.
 
     Args:
         problem: The pool strike.
@@ -223,7 +248,7 @@ def contact_near(problem: PoolStrike, q: ArrayLike, *, margin: float = 0.0) -> C
     reserve = as_margin(margin)
     search = PoolSearch(problem)
     found = search.near(search.to_contact, seed)
-    window = None if found is None else search.window(found)
+    window = None if found is None else search.window(found, clear_only=True)
     if window is None:
         return None
     if float(problem.speed) * max(window.r1, window.turn) > HEADROOM * (1.0 - reserve):

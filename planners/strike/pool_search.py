@@ -6,8 +6,12 @@ the configurations at contact and at the strike line's entry and exit (the whole
 the strike speed), the largest twist ratio over the three
 (:func:`planners.strike.twist_ratio.unit_ratio`), an estimate of the room the window leaves to
 turn at the position limits, and a score that ranks candidates. :meth:`PoolSearch.improve`
-lowers a window's score by a pattern search along the self-motion. The ranking of the
-candidates and the choice among them are :mod:`planners.strike.pool_contact`'s. Usage::
+lowers a window's score by a pattern search along the self-motion. With a scene
+(``problem.scene``) a window also carries the arm's clearance from it (the nearest pair over
+the three configurations); a window nearer than the scene's margin is *blocked*, and
+:meth:`PoolSearch.improve` raises a blocked window's clearance until it is clear, then lowers
+its score keeping it clear. The ranking of the candidates and the choice among them are
+:mod:`planners.strike.pool_contact`'s. Usage::
 
     search = PoolSearch(problem)
     window = search.window(q)  # None when the line's ends are out of reach from q
@@ -26,6 +30,7 @@ from optraj.planners.strike.min_max_ratio import MinMaxRatio, idle_columns
 from optraj.planners.strike.twist_ratio import binding_joints, task_rows, unit_ratio
 from optraj.problems import PoolStrike
 from optraj.problems.common import normal_pair
+from optraj.problems.scene_distances import SceneCollision
 from optraj.robots.ik import LocalIK
 
 __all__ = ["PoolSearch", "PoolWindow"]
@@ -42,6 +47,9 @@ _TIE = 1e-9
 _FIRST_STEP = 0.4
 _LARGEST_STEP = 0.4
 _SMALLEST_STEP = 0.0125
+#: A blocked window's trial must be clearer by this much to count as a success [m]: less is
+#: the geometry's rounding.
+_CLEARER = 1e-6
 #: A joint within this fraction of its range from a position limit is near it, and ...
 _LIMIT_ZONE = 0.1
 #: ... a candidate whose joint sits on a limit has its ratio raised by this fraction when
@@ -66,6 +74,11 @@ class PoolWindow:
         score: ``max(r1, turn)`` raised by the joint-limit penalty, for ranking [s/m].
         order: Places (0 contact, 1 entry, 2 exit): the largest ratio's, the one nearest a
             limit, then the rest; the order in which a trial near this window is evaluated.
+        clearance: Smallest signed distance between two shapes of the arm and scene that may
+            not touch, over the three configurations [m]; inf without a scene.
+        nearest: That pair's names and the place where it is nearest ("contact", "entry" or
+            "exit"); empty without a scene.
+        clear: Whether ``clearance`` is at least the scene's margin (True without a scene).
     """
 
     q: FloatArray
@@ -78,6 +91,14 @@ class PoolWindow:
     turn: float
     score: float
     order: tuple[int, ...]
+    clearance: float = math.inf
+    nearest: tuple[str, ...] = ()
+    clear: bool = True
+
+    @property
+    def rank(self) -> tuple[bool, float]:
+        """Sort key, best first: clear windows by score, then blocked ones, clearest first."""
+        return (not self.clear, self.score if self.clear else -self.clearance)
 
 
 class PoolSearch:
@@ -106,6 +127,10 @@ class PoolSearch:
         self.zone = _LIMIT_ZONE * (self.upper - self.lower)
         self.lp = MinMaxRatio()
         self.evaluated = 0
+        scene = problem.scene
+        self.shapes = None if scene is None else SceneCollision(self.robot, scene)
+        self.margin = 0.0 if scene is None else float(scene.margin)
+        self._pairs = None if self.shapes is None else self.shapes.static_mask()
         # solve_ik(robot, point, axis=direction, q_near=q, restarts=0) for each point of the line
         self.to_contact, self.to_entry, self.to_exit = (
             LocalIK(self.robot, point, axis=self.direction)
@@ -171,8 +196,28 @@ class PoolSearch:
             self.lp, self.robot, q, self.direction, self.velocity_limit, 0.0, self.across
         )
 
+    def clearance(self, configs: list[FloatArray]) -> tuple[float, tuple[str, ...]]:
+        """The nearest pair over configurations (contact, entry, exit) [m], its names and place.
+
+        ``(inf, ())`` without a scene. Pairs the scene allows at some time are left out.
+        """
+        if self.shapes is None:
+            return math.inf, ()
+        best: tuple[float, tuple[str, ...]] = (math.inf, ())
+        self.shapes.set_active(self._pairs)
+        for place, q in zip(("contact", "entry", "exit"), configs, strict=True):
+            self.shapes.compute(q)
+            index, distance = self.shapes.smallest(self._pairs)
+            if distance < best[0]:
+                best = (distance, (*self.shapes.pair_names(index), place))
+        return best
+
     def window(
-        self, q: FloatArray, bound: float = math.inf, order: tuple[int, ...] = (0, 1, 2)
+        self,
+        q: FloatArray,
+        bound: float = math.inf,
+        order: tuple[int, ...] = (0, 1, 2),
+        clear_only: bool = False,
     ) -> PoolWindow | None:
         """Evaluate contact configuration q (with the cue on the line at the contact point).
 
@@ -183,7 +228,7 @@ class PoolSearch:
         one LP. ``order`` lists the places (0 contact, 1 entry, 2 exit) in the order they are
         evaluated: where the window that set the bound had its largest ratio and the joint
         nearest a limit prunes a poor trial soonest. The pruning and the order change nothing
-        else.
+        else. With ``clear_only`` a window that is not clear of the scene is None too.
         """
         self.evaluated += 1
         if not self._inside(q):
@@ -205,6 +250,10 @@ class PoolSearch:
             ratios[place], velocities[place] = self._ratio(configs[place])
             if prune and max(ratios) * (1.0 + _LIMIT_PENALTY * closeness) >= bound:
                 return None
+        clearance, nearest = self.clearance(configs)
+        clear = clearance >= self.margin
+        if clear_only and not clear:
+            return None
         worst = max(range(3), key=ratios.__getitem__)  # the earliest place on a tie
         tightest = max(range(3), key=near_limit.__getitem__)
         turn = self.turn(configs[1], q, configs[2])
@@ -219,6 +268,9 @@ class PoolSearch:
             turn=turn,
             score=max(ratios[worst], turn) * (1.0 + _LIMIT_PENALTY * near_limit[tightest]),
             order=tuple(dict.fromkeys((worst, tightest, 0, 1, 2))),
+            clearance=clearance,
+            nearest=nearest,
+            clear=clear,
         )
 
     def improve(self, start: PoolWindow, trials: int) -> PoolWindow:
@@ -231,7 +283,9 @@ class PoolSearch:
         Steps of size h along the remaining null-space directions and their opposites are
         tried, the last successful direction first; a success (a score lower by more than
         :data:`_TIE`, relative) moves there and doubles h, a failure halves it. Each trial is
-        projected back with IK.
+        projected back with IK. A blocked window (:attr:`PoolWindow.clear` False) counts a
+        trial a success when it is clear or its clearance is larger by more than
+        :data:`_CLEARER`; once clear, only clear trials succeed.
         """
         current, step, last = start, _FIRST_STEP, None
         while step >= _SMALLEST_STEP and trials > 0:
@@ -243,17 +297,24 @@ class PoolSearch:
             if last is not None:
                 moves.sort(key=lambda move: -float(move @ last))
             moved = False
-            bound = current.score * (1.0 - _TIE)
+            bound = current.score * (1.0 - _TIE) if current.clear else math.inf
             for move in moves:
                 if trials == 0:
                     break
                 trials -= 1
                 guess = np.clip(current.q + step * move, self.lower, self.upper)
                 q = self.near(self.to_contact, guess)
-                trial = None if q is None else self.window(q, bound, current.order)
-                if trial is not None and trial.score < bound:
+                trial = None if q is None else self.window(q, bound, current.order, current.clear)
+                if trial is not None and _better(trial, current, bound):
                     last = (trial.q - current.q) / np.linalg.norm(trial.q - current.q)
                     current, moved = trial, True
                     break
             step = min(2.0 * step, _LARGEST_STEP) if moved else 0.5 * step
         return current
+
+
+def _better(trial: PoolWindow, current: PoolWindow, bound: float) -> bool:
+    """Whether a pattern-search trial improves on the current window (:meth:`improve`)."""
+    if current.clear:
+        return trial.clear and trial.score < bound
+    return trial.clear or trial.clearance > current.clearance + _CLEARER

@@ -8,6 +8,7 @@ import pytest
 from optraj import physics, problems, robots
 from optraj.errors import InvalidInputError
 from optraj.problems.scene_shapes import translation
+from optraj.problems.scenes import BALL_FROM_NEAR_END
 from optraj.robots.collision import CUE_TIP_RADIUS
 
 BALL = (0.75, 0.15, -0.05)
@@ -114,7 +115,7 @@ def test_the_pool_world_is_built_from_the_ready_made_table(sawyer):
 def test_the_table_follows_the_ball_unless_the_problem_has_its_own(sawyer, pool_shot):
     moved = physics.pool_scene(sawyer, BALL).with_ball((0.85, 0.15, -0.05)).build().model
     _, _, pos = _geom(moved, "cushion_near")
-    assert pos[0] == pytest.approx(0.85 - 0.35 - 0.05)
+    assert pos[0] == pytest.approx(0.85 - BALL_FROM_NEAR_END - 0.05)
     # The README shot's wrist is inside the ready-made table's cloth (the problem refuses
     # that table), so this problem has a block far ahead instead.
     block = problems.Box("block", (0.05, 0.05, 0.05), translation((2.0, 0.15, 0.0)))

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from conftest import get_robot
 
-from optraj import problems
+from optraj import planners, problems
 from optraj.errors import CollisionError, InvalidInputError, UnreachableError
 from optraj.problems import POOL_BALL_RADIUS, PoolStrike, StrikeLine
 from optraj.problems.pool_strike import MAX_WINDOW
@@ -82,14 +82,28 @@ def test_the_slowest_speed_a_refusal_names_is_accepted():
     assert problem.window == pytest.approx(MAX_WINDOW, rel=1e-12)
 
 
-def test_a_strike_whose_contact_puts_the_wrist_in_the_table_is_refused():
+def test_a_cue_in_the_table_is_refused_and_a_level_cue_keeps_no_arm_clear_of_it():
     shot = problems.sawyer_pool_shot()
     assert shot.scene is None
-    # A horizontal cue at the ball's height carries the wrist (capsules of 3 to 3.5 cm
-    # radius) 2.9 cm above the cloth: it is in the cloth, or in the near cushion.
     table = problems.pool_table(shot.ball, shot.ball_radius)
+    # A cue rising 30 deg through the ball: its butt is under the cloth on every IK branch.
+    rising = (np.cos(np.radians(30.0)), 0.0, np.sin(np.radians(30.0)))
     with pytest.raises(CollisionError, match="strike contact") as caught:
-        dataclasses.replace(shot, scene=table)
-    assert caught.value.first.startswith("link_") and caught.value.second == "cushion_near"
+        dataclasses.replace(shot, direction=rising, scene=table)
+    assert caught.value.first.startswith("tool/") and caught.value.second == "cloth"
+    # A level cue at the ball's height holds the wrist (capsules of 3 to 3.5 cm radius) 2.9
+    # cm above the cloth: the cue is clear, every contact configuration's arm is not.
+    level = dataclasses.replace(shot, scene=table)
+    with pytest.raises(CollisionError, match="every contact configuration") as caught:
+        planners.choose_contact(level)
+    assert caught.value.first.startswith("link_") and caught.value.distance < 0.0
+    assert caught.value.second in ("cloth", "cushion_near")
+    # Raised 4 deg (the table scenario's default), a clear one is found.
+    raised = problems.sawyer_pool_shot(with_table=True)
+    assert raised.direction[2] == pytest.approx(-np.sin(np.radians(4.0)))
+    choice = planners.choose_contact(raised)
+    shapes = problems.SceneCollision(raised.robot, raised.scene)
+    for q in (choice.q, choice.q_entry, choice.q_exit):
+        assert shapes.distances(q)[0].distance >= raised.scene.margin == 0.01
     floor_only = problems.Scene((problems.floor(-0.914),))
     assert dataclasses.replace(shot, scene=floor_only).scene is floor_only

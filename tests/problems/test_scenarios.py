@@ -7,6 +7,7 @@ import pytest
 
 from optraj import problems
 from optraj.errors import InvalidInputError
+from optraj.problems import scenarios
 from optraj.problems.scenarios import block_clearance_scene
 
 
@@ -64,3 +65,20 @@ def test_the_block_clearance_scene_allows_the_gripper_only_at_its_blocks():
     assert blocks.sometimes_allowed("tool/finger_left", "block_0") == expected
     with pytest.raises(InvalidInputError, match="needs a problem with a scene"):
         block_clearance_scene(problems.youbot_two_blocks())
+
+
+def test_a_shot_over_a_table_raises_the_cue_and_starts_cue_up():
+    shot = problems.sawyer_pool_shot(with_table=True)
+    assert shot.scene is not None and shot.scene.margin == 0.01
+    assert shot.direction[2] == pytest.approx(-np.sin(np.radians(scenarios.CUE_ELEVATION)))
+    np.testing.assert_allclose(shot.q_start, scenarios.SAWYER_CUE_UP)
+    level = problems.sawyer_pool_shot(with_table=True, elevation_deg=0.0)
+    assert level.direction[2] == 0.0
+    steep = problems.sawyer_pool_shot(elevation_deg=10.0)
+    assert steep.scene is None and steep.direction[2] == pytest.approx(-np.sin(np.radians(10)))
+    with pytest.raises(InvalidInputError, match="with_table must be a bool"):
+        problems.sawyer_pool_shot(with_table=1)  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match="elevation_deg"):
+        problems.sawyer_pool_shot(elevation_deg=75.0)
+    with pytest.raises(InvalidInputError, match="margin"):
+        problems.sawyer_pool_shot(with_table=True, margin=-0.01)

@@ -19,10 +19,11 @@ def test_the_cloth_top_is_the_ball_bottom_and_the_tip_may_touch_the_ball():
     top = cloth.pose[2, 3] + cloth.half_extents[2]
     assert top == pytest.approx(-0.05 - 0.028575, abs=1e-12)
     near = table.object("cushion_near")
-    assert near.pose[0, 3] + near.half_extents[0] == pytest.approx(0.75 - 0.35)
+    assert near.pose[0, 3] + near.half_extents[0] == pytest.approx(0.75 - 0.635)  # head string
     assert near.half_extents[2] * 2 == pytest.approx(scenes.CUSHION_HEIGHT)
     np.testing.assert_allclose(table.object("ball").pose[:3, 3], ball)
-    assert table.always_allowed("tool/tip", "ball") and not table.always_allowed("link_7", "ball")
+    assert table.always_allowed("tool/tip", "ball") and table.always_allowed("tool/cue", "ball")
+    assert not table.always_allowed("link_7", "ball")
     assert table.object("floor").point[2] == scenes.SAWYER_FLOOR
 
 

@@ -47,8 +47,11 @@ def test_a_strike_run_through_mujoco_draws_the_ball_path_along_the_shot():
     scene = build_scene(shot.robot, traj, shot, outcome, fps=10.0)
     path = [shape for shape in scene.shapes if shape.name.startswith("ball_path/")]
     assert path
-    for piece in path:  # every piece runs along the commanded heading, on the cloth
-        np.testing.assert_allclose(abs(piece.pose[:3, 2] @ shot.direction), 1.0, atol=1e-3)
+    heading = shot.direction[:2] / np.linalg.norm(shot.direction[:2])
+    for piece in path:  # every piece runs along the commanded heading (out and back off the
+        # far cushion, where the ball hops a little), on the cloth
+        across = piece.pose[:2, 2] / np.linalg.norm(piece.pose[:2, 2])
+        np.testing.assert_allclose(abs(across @ heading), 1.0, atol=1e-3)
         np.testing.assert_allclose(piece.pose[2, 3], shot.ball[2], atol=1e-3)
     ball = scene.shape("ball")
     np.testing.assert_allclose(ball.motion[0][:3, 3], shot.ball, atol=1e-12)

@@ -1,14 +1,18 @@
 r"""A pool strike's clearance as NLP rows: spheres above the cloth, the cue tip behind the ball.
 
-:class:`ClearanceRows` writes, at every node after the first (the first is the pinned
-start), one row per sphere of :func:`planners.ocp.clearance.pool_spheres`:
-:math:`c_z(q) \ge f_i`, the sphere's floor (cloth, radius, margin and node extra:
-:func:`planners.ocp.clearance.sphere_floors`), leaving out the cue tip at the nodes of the
-strike window (it meets the ball there); and at the approach's nodes after the first, one
-half-space row for the cue tip's sphere: :math:`d \cdot (c - b) \le -o`, the offset
-:math:`o` of :func:`planners.ocp.clearance.ball_offset`. The numbers are the NLP parameters
-``clearance_floor`` (one per sphere), ``clearance_ball``, ``clearance_direction`` and
-``clearance_behind``, so every shot with the same spheres shares one compiled NLP.
+:class:`ClearanceRows` writes, at every node after the first (the first is the pinned start),
+one row per sphere of :func:`planners.ocp.clearance.pool_spheres`: :math:`c_z(q) \ge f_i +
+s_i(c_x)`, the sphere's floor (cloth, radius, margin and node extra:
+:func:`planners.ocp.clearance.sphere_floors`) and its rise over the near cushion
+(:func:`planners.ocp.clearance.step_height`, 0 without one), leaving out the cue tip at the
+nodes of the strike window (it meets the ball there) and giving back most of the node extra
+there (the strike line holds the motion between those nodes nearly straight); and at the
+approach's nodes after the first, one half-space row for the cue tip's sphere: :math:`d \cdot
+(c - b) \le -o`, the offset :math:`o` of :func:`planners.ocp.clearance.ball_offset`. The
+numbers are the NLP parameters ``clearance_floor`` and ``clearance_reach`` (one per sphere),
+``clearance_cushion`` (face, height), ``clearance_extra``, ``clearance_ball``,
+``clearance_direction`` and ``clearance_behind``, so every shot with the same spheres shares
+one compiled NLP.
 
 Example::
 
@@ -25,10 +29,13 @@ import casadi as ca
 import numpy as np
 from numpy.typing import NDArray
 
+from optraj.errors import InvalidInputError
 from optraj.planners.ocp.clearance import (
+    STEP_WIDTH,
     Clearance,
     Sphere,
     ball_offset,
+    cushion_step,
     pool_spheres,
     sphere_floors,
 )
@@ -41,8 +48,14 @@ if TYPE_CHECKING:
 FloatArray = NDArray[np.float64]
 
 #: Most spheres of :func:`planners.ocp.clearance.pool_spheres` (the last is the cue tip):
-#: the size of the parameter ``clearance_floor``, whose unused entries are 0.
-SPHERES = 4
+#: the size of the parameters ``clearance_floor`` and ``clearance_reach``, whose unused
+#: entries are 0 (Sawyer's wrist has 10, its cue 3).
+SPHERES = 16
+
+
+#: Extra height kept at the strike window's nodes [m]: the cue runs straight there, the arm's
+#: links nearly so (a link on the margin at the nodes dipped 0.02 mm between them).
+WINDOW_EXTRA = 0.001
 
 
 @dataclass(frozen=True)
@@ -55,6 +68,11 @@ class ClearanceRows(TaskRows):
         spheres: The spheres (constants of the NLP: rows compare by them and the window).
         floors: Lowest height of each sphere's centre [m], shape (:data:`SPHERES`,): the
             spheres' first, then zeros.
+        reach: Each sphere's radius plus the margin [m], shape (:data:`SPHERES`,).
+        cushion: The near cushion's face along x and height above the cloth [m], shape (2,).
+        extra: The part of the node extra given back in the strike window [m], all of it but
+            :data:`WINDOW_EXTRA`: the strike line holds the motion between its nodes nearly
+            straight.
         ball: Ball centre [m], shape (3,).
         direction: Shot direction (unit), shape (3,).
         behind: Least distance of the tip sphere's centre behind the ball's centre along
@@ -64,12 +82,18 @@ class ClearanceRows(TaskRows):
     window: int
     spheres: tuple[Sphere, ...]
     floors: FloatArray = field(compare=False, repr=False)
+    reach: FloatArray = field(compare=False, repr=False)
+    cushion: FloatArray = field(compare=False, repr=False)
+    extra: float = field(compare=False, repr=False)
     ball: FloatArray = field(compare=False, repr=False)
     direction: FloatArray = field(compare=False, repr=False)
     behind: float = field(compare=False, repr=False)
 
     parameters = (
         ("clearance_floor", SPHERES),
+        ("clearance_reach", SPHERES),
+        ("clearance_cushion", 2),
+        ("clearance_extra", 1),
         ("clearance_ball", 3),
         ("clearance_direction", 3),
         ("clearance_behind", 1),
@@ -78,22 +102,34 @@ class ClearanceRows(TaskRows):
     @classmethod
     def of(cls, problem: PoolStrike, clearance: Clearance, phases: Sequence[str]) -> ClearanceRows:
         """The rows of ``problem`` with the window in its phase ``"strike"`` of ``phases``."""
-        spheres = pool_spheres(problem.robot, wrist=clearance.wrist)
-        floors = np.zeros(SPHERES)
+        spheres = pool_spheres(problem.robot, wrist=clearance.keeps_wrist(problem))
+        if len(spheres) > SPHERES:
+            raise InvalidInputError(
+                f"the robot has {len(spheres)} clearance spheres, at most {SPHERES} fit",
+                name="clearance",
+            )
+        floors, reach = np.zeros(SPHERES), np.zeros(SPHERES)
         floors[: len(spheres)] = sphere_floors(problem, spheres, clearance)
+        reach[: len(spheres)] = [sphere.radius + clearance.margin for sphere in spheres]
         return cls(
             window=list(phases).index("strike"),
             spheres=spheres,
             floors=floors,
+            reach=reach,
+            cushion=np.array(cushion_step(problem)),
+            extra=max(0.0, clearance.node_extra - WINDOW_EXTRA),
             ball=np.asarray(problem.ball, dtype=float),
             direction=np.asarray(problem.direction, dtype=float),
             behind=ball_offset(problem, spheres[-1], clearance),
         )
 
     def values(self) -> dict[str, FloatArray]:
-        """The floors [m], the ball centre [m], the shot direction and the offset [m]."""
+        """Floors, reaches, cushion, ball centre and offset [m]; the shot direction."""
         return {
             "clearance_floor": self.floors,
+            "clearance_reach": self.reach,
+            "clearance_cushion": self.cushion,
+            "clearance_extra": np.array([self.extra]),
             "clearance_ball": self.ball,
             "clearance_direction": self.direction,
             "clearance_behind": np.array([self.behind]),
@@ -106,7 +142,8 @@ class ClearanceRows(TaskRows):
         pose = {f: (symbolic.frame_position(f), symbolic.frame_rotation(f)) for f in frames}
         first = nlp.layout.first_node
         window = range(int(first[self.window]), int(first[self.window + 1]) + 1)
-        floors = params["clearance_floor"]
+        floors, reach = params["clearance_floor"], params["clearance_reach"]
+        face, height = params["clearance_cushion"][0], params["clearance_cushion"][1]
         for node in range(1, nlp.layout.nodes):
             q, _, _ = nlp.state(node)
             # Each frame's pose once per node: SX calls are inlined, not shared.
@@ -116,8 +153,19 @@ class ClearanceRows(TaskRows):
                 p, r = at_node[sphere.frame]
                 centres.append(p + r @ ca.DM(sphere.offset))
             kept = len(self.spheres) - 1 if node in window else len(self.spheres)
-            heights = ca.vertcat(*(c[2] for c in centres[:kept]))
-            rows.add("clearance cloth", heights - floors[:kept], 0.0, np.inf, at=node)
+            above = ca.vertcat(
+                *(
+                    c[2]
+                    - floors[i]
+                    - height
+                    * 0.5
+                    * (1.0 + ca.tanh((face + reach[i] + 2.0 * STEP_WIDTH - c[0]) / STEP_WIDTH))
+                    for i, c in enumerate(centres[:kept])
+                )
+            )
+            if node in window:
+                above = above + params["clearance_extra"]
+            rows.add("clearance cloth", above, 0.0, np.inf, at=node)
             if node < window[0]:
                 ahead = ca.dot(
                     params["clearance_direction"], centres[-1] - params["clearance_ball"]

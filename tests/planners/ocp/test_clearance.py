@@ -6,15 +6,18 @@ the flange ``right_hand`` to the tip ``cue_tip``), not with the planner's rows o
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pinocchio as pin
 import pytest
 
-from optraj import problems, robots
-from optraj.errors import InvalidInputError, UnreachableError
+from optraj import planners, problems, robots
+from optraj.errors import InfeasibleError, InvalidInputError, SolverError, UnreachableError
 from optraj.planners import check
 from optraj.planners.ocp.clearance import (
     TIP_RADIUS,
+    WRIST_LINKS,
     Clearance,
     ball_offset,
     checked_clearance,
@@ -23,6 +26,8 @@ from optraj.planners.ocp.clearance import (
     sphere_floors,
 )
 from optraj.planners.ocp.optimal_control import OptimalControl
+from optraj.problems import AllowedPair, Scene
+from optraj.robots.collision import collision_geometry
 from optraj.robots.loading import SAWYER_CUE_LENGTH, SAWYER_CUE_RADIUS
 
 MARGIN = 0.01  # [m], issue 37
@@ -45,27 +50,38 @@ def test_only_a_clearance_or_none_is_a_setting():
         Clearance(wrist=1)  # type: ignore[arg-type]
 
 
-def test_the_spheres_sit_on_the_cue_and_the_wrist():
+def test_the_spheres_sit_on_the_cue_and_on_the_ends_of_the_wrist_capsules():
     sawyer = robots.load("sawyer")
     spheres = pool_spheres(sawyer, wrist=True)
-    assert [s.name for s in spheres] == ["wrist", "cue butt", "cue middle", "cue tip"]
+    names = [s.name for s in spheres]
+    assert names[-3:] == ["cue butt", "cue middle", "cue tip"]
+    assert names[:3] == ["link_5 end 0", "link_5 middle", "link_5 end 1"]
     q = np.random.default_rng(3).uniform(sawyer.limits.lower, sawyer.limits.upper)
     centres = sphere_centres(sawyer, spheres, q)[0]
     model, data = sawyer.model, sawyer.model.createData()
     pin.framesForwardKinematics(model, data, q)
+    # The wrist's spheres: on the capsules the checker measures, placed by Pinocchio.
+    geometry = collision_geometry(sawyer)
+    placed = pin.GeometryData(geometry)
+    pin.updateGeometryPlacements(model, data, geometry, placed, q)
+    for name in WRIST_LINKS:
+        item = geometry.geometryObjects[geometry.getGeometryId(name)]
+        pose = placed.oMg[geometry.getGeometryId(name)]
+        half = item.geometry.halfLength
+        ends = [pose.act(np.array([0.0, 0.0, z])) for z in (-half, half)]
+        mine = [i for i, n in enumerate(names) if n.startswith(f"{name} end")]
+        np.testing.assert_allclose(centres[mine], ends, atol=1e-12)
+        assert all(spheres[i].radius == item.geometry.radius for i in mine)
     flange = data.oMf[model.getFrameId("right_hand")].translation
     tip = data.oMf[model.getFrameId("cue_tip")]
+    np.testing.assert_allclose(centres[-3], flange, atol=1e-12)
+    np.testing.assert_allclose(centres[-2], 0.5 * (flange + tip.translation), atol=1e-12)
     np.testing.assert_allclose(
-        centres[0], data.oMi[model.getJointId("right_j5")].translation, atol=1e-12
-    )
-    np.testing.assert_allclose(centres[1], flange, atol=1e-12)
-    np.testing.assert_allclose(centres[2], 0.5 * (flange + tip.translation), atol=1e-12)
-    np.testing.assert_allclose(
-        centres[3], tip.translation - TIP_RADIUS * tip.rotation[:, 2], atol=1e-12
+        centres[-1], tip.translation - TIP_RADIUS * tip.rotation[:, 2], atol=1e-12
     )
     assert np.linalg.norm(flange - tip.translation) == pytest.approx(SAWYER_CUE_LENGTH, abs=1e-12)
-    assert spheres[1].radius == SAWYER_CUE_RADIUS
-    assert pool_spheres(sawyer, wrist=False) == spheres[1:]
+    assert spheres[-3].radius == SAWYER_CUE_RADIUS
+    assert pool_spheres(sawyer, wrist=False) == spheres[-3:]
 
 
 def test_a_sphere_that_starts_below_its_floor_is_held_where_it_starts():
@@ -77,7 +93,7 @@ def test_a_sphere_that_starts_below_its_floor_is_held_where_it_starts():
     cloth = shot.ball[2] - shot.ball_radius
     assert start[2] < cloth  # the tip starts in the table
     assert floors[2] == start[2]
-    np.testing.assert_allclose(floors[:2], cloth + SAWYER_CUE_RADIUS + 0.013, atol=1e-12)
+    np.testing.assert_allclose(floors[:2], cloth + SAWYER_CUE_RADIUS + 0.015, atol=1e-12)
     short = problems.PoolStrike(shot.robot, shot.ball, shot.direction, 1.0, run_up=0.01)
     assert ball_offset(short, spheres[2], clearance) == pytest.approx(
         short.ball_radius + TIP_RADIUS + 0.005
@@ -150,3 +166,60 @@ def test_seeded_pool_shots_keep_the_cue_above_the_cloth_and_off_the_ball(shot, p
 def planner_time() -> OptimalControl:
     """One planner for every shot: its compiled NLP is reused."""
     return OptimalControl("time")
+
+
+# Issue 37: 100 seeded random shots over a table (problems.sawyer_pool_shot(with_table=True): the
+# cue raised 4 deg, the arm starting cue up) keep the arm and the cue at least 1 cm above the
+# cloth; each is planned or refused with a typed error, every plan judged by the checker's
+# clearance against the cloth alone (the arm's own pairs are another check's business).
+#: Shots drawn, and the least that must be planned (measured: 65 of 100 planned; the rest
+#: refused with a typed error: no contact configuration clear of the table fast enough for
+#: 1 m/s, or IPOPT finding the raised-cue window infeasible).
+SHOTS = 100
+PLANNED = 60
+CLOTH_CLEARANCE = 0.01
+
+
+def _table_shots(count: int, seed: int = 11) -> list[problems.PoolStrike]:
+    """Seeded Sawyer shots at 1 m/s over a cloth (benchmarks/benchmarking.py's ranges)."""
+    rng = np.random.default_rng(seed)
+    found: list[problems.PoolStrike] = []
+    while len(found) < count:
+        ball = (rng.uniform(0.65, 0.85), rng.uniform(-0.05, 0.3), rng.uniform(-0.1, 0.0))
+        heading = rng.uniform(-20.0, 20.0)
+        try:
+            shot = problems.sawyer_pool_shot(1.0, ball, heading, with_table=True)
+        except UnreachableError:
+            continue
+        # The cloth and the ball of the table (the cushions are left out: see the module).
+        kept = tuple(o for o in shot.scene.objects if o.name in ("cloth", "ball"))
+        found.append(dataclasses.replace(shot, scene=dataclasses.replace(shot.scene, objects=kept)))
+    return found
+
+
+def _cloth(shot: problems.PoolStrike) -> Scene:
+    """The cloth alone, every robot shape kept 1 cm from it (the robot's own pairs allowed)."""
+    own = (("link_*", "link_*"), ("link_*", "tool/*"), ("tool/*", "tool/*"))
+    return Scene(
+        (shot.scene.object("cloth"),),
+        allowed=tuple(AllowedPair(a, b) for a, b in own),
+        margin=CLOTH_CLEARANCE,
+    )
+
+
+@pytest.mark.slow
+def test_seeded_shots_over_a_table_keep_the_arm_and_cue_a_centimetre_above_the_cloth():
+    planner = planners.OptimalControl()
+    planned, refused = 0, []
+    for shot in _table_shots(SHOTS):
+        try:
+            traj = planner.plan(shot)
+        except (InfeasibleError, SolverError) as error:
+            refused.append(type(error).__name__)
+            continue
+        finding = planners.check(traj, shot.robot, scene=_cloth(shot))["clearance"]
+        assert finding.ok, (shot.ball, shot.direction, finding.detail)
+        assert finding.value >= CLOTH_CLEARANCE
+        planned += 1
+    print(f"planned {planned} of {SHOTS}; refused: {sorted(refused)}")
+    assert planned >= PLANNED, refused

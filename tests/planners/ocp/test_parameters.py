@@ -40,7 +40,15 @@ def test_a_pool_nlp_reads_its_strike_line_by_name():
     problem = problems.sawyer_pool_shot(1.0)
     built = OptimalControl("time").build(problem)
     names = built.compiled.parameters.names
-    clearance = ("clearance_floor", "clearance_ball", "clearance_direction", "clearance_behind")
+    clearance = (
+        "clearance_floor",
+        "clearance_reach",
+        "clearance_cushion",
+        "clearance_extra",
+        "clearance_ball",
+        "clearance_direction",
+        "clearance_behind",
+    )
     assert names == ("time_scale", "entry", "direction", "e1", "e2", "speed", *clearance, "torque")
     np.testing.assert_array_equal(built.parameter("entry"), problem.entry_point)
     np.testing.assert_array_equal(built.parameter("direction"), problem.direction)

@@ -39,9 +39,9 @@ def test_a_warm_solve_that_does_not_converge_is_redone_cold():
     traj = planner.plan(moved, warm_start=planner.plan(first))
     meta = traj.metadata
     assert meta["warm_started"] is True and meta["warm_abandoned"] is True
-    assert WARM_ITERATIONS < meta["iterations"] < 2 * WARM_ITERATIONS + 30
+    assert WARM_ITERATIONS < meta["iterations"] < WARM_ITERATIONS + 120
     assert check(traj, moved).ok
-    # The iterations and times count the abandoned solve (the cold one alone takes 59).
+    # The iterations and times count the abandoned solve (the cold one alone takes 94).
     assert meta["nlp_time"] > meta["evaluation_time"] > 0.0
 
 

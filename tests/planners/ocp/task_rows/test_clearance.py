@@ -39,7 +39,10 @@ def test_the_parameters_are_the_cloth_floors_ball_and_offset():
         shot.robot, ClearanceRows.of(shot, clearance, PHASES).spheres, shot.q_start
     )
     wanted = np.minimum(cloth + radii + 0.021, start[0, :, 2])
-    np.testing.assert_allclose(values["clearance_floor"], [*wanted, 0.0], atol=1e-12)
+    np.testing.assert_allclose(values["clearance_floor"][:3], wanted, atol=1e-12)
+    assert not values["clearance_floor"][3:].any()
+    np.testing.assert_allclose(values["clearance_reach"][:3], radii + 0.02, atol=1e-12)
+    assert values["clearance_cushion"].tolist() == [0.0, 0.0]  # no scene, no cushion
     np.testing.assert_allclose(values["clearance_ball"], shot.ball, atol=0)
     np.testing.assert_allclose(values["clearance_direction"], shot.direction, atol=0)
     np.testing.assert_allclose(values["clearance_behind"], [shot.ball_radius + 0.006 + 0.016])
