@@ -101,7 +101,9 @@ def _pool_shot(get: Getter) -> Any:
     from optraj import problems
     from optraj.validation import as_vector
 
-    extra = {"ball": tuple(as_vector(get("ball"), "--ball", 3))} if get("ball") is not None else {}
+    extra: dict[str, Any] = {}
+    if get("ball") is not None:
+        extra["ball"] = tuple(as_vector(get("ball"), "--ball", 3))
     return problems.sawyer_pool_shot(
         speed=_number(get, "speed", 1.0, "m/s"),
         heading_deg=_number(get, "heading", 0.0, "deg"),
