@@ -100,7 +100,7 @@ def test_a_sphere_that_starts_below_its_floor_is_held_where_it_starts():
     )
 
 
-def _shots(count: int, seed: int = 7) -> list[problems.PoolStrike]:
+def _shots(count: int, seed: int = 7, with_table: bool = False) -> list[problems.PoolStrike]:
     """Seeded random Sawyer shots over the benchmarks' table (benchmarks/benchmarking.py)."""
     rng = np.random.default_rng(seed)
     found: list[problems.PoolStrike] = []
@@ -108,7 +108,7 @@ def _shots(count: int, seed: int = 7) -> list[problems.PoolStrike]:
         ball = (rng.uniform(0.65, 0.85), rng.uniform(-0.05, 0.3), rng.uniform(-0.1, 0.0))
         heading = rng.uniform(-20.0, 20.0)
         try:
-            found.append(problems.sawyer_pool_shot(1.0, ball, heading_deg=heading))
+            found.append(problems.sawyer_pool_shot(1.0, ball, heading, with_table=with_table))
         except UnreachableError:
             continue
     return found
@@ -181,17 +181,9 @@ CLOTH_CLEARANCE = 0.01
 
 
 def _table_shots(count: int, seed: int = 11) -> list[problems.PoolStrike]:
-    """Seeded Sawyer shots at 1 m/s over a cloth (benchmarks/benchmarking.py's ranges)."""
-    rng = np.random.default_rng(seed)
-    found: list[problems.PoolStrike] = []
-    while len(found) < count:
-        ball = (rng.uniform(0.65, 0.85), rng.uniform(-0.05, 0.3), rng.uniform(-0.1, 0.0))
-        heading = rng.uniform(-20.0, 20.0)
-        try:
-            shot = problems.sawyer_pool_shot(1.0, ball, heading, with_table=True)
-        except UnreachableError:
-            continue
-        # The cloth and the ball of the table (the cushions are left out: see the module).
+    """Seeded Sawyer shots at 1 m/s over the cloth and ball of a table (no cushions)."""
+    found = []
+    for shot in _shots(count, seed, with_table=True):
         kept = tuple(o for o in shot.scene.objects if o.name in ("cloth", "ball"))
         found.append(dataclasses.replace(shot, scene=dataclasses.replace(shot.scene, objects=kept)))
     return found
