@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import casadi as ca
 import numpy as np
 from conftest import get_robot
 
 from optraj import problems
+from optraj.errors import UnreachableError
 from optraj.planners.ocp.transcription import (
     Structure,
     compile_nlp,
@@ -27,6 +30,32 @@ def sawyer_shots(count: int, speed: float, seed: int = 7):
         yield problems.sawyer_pool_shot(
             speed, ball, heading_deg=rng.uniform(*SAWYER_SHOT["heading"])
         )
+
+
+def reachable_shots(
+    count: int, seed: int = 7, with_table: bool = False
+) -> list[problems.PoolStrike]:
+    """``count`` seeded Sawyer shots at 1 m/s within :data:`SAWYER_SHOT`, out-of-reach ones
+    skipped; ``with_table``: ``problems.sawyer_pool_shot(with_table=True)``."""
+    rng = np.random.default_rng(seed)
+    found: list[problems.PoolStrike] = []
+    while len(found) < count:
+        ball = tuple(rng.uniform(*SAWYER_SHOT[axis]) for axis in "xyz")
+        heading = rng.uniform(*SAWYER_SHOT["heading"])
+        try:
+            found.append(problems.sawyer_pool_shot(1.0, ball, heading, with_table=with_table))
+        except UnreachableError:
+            continue
+    return found
+
+
+def table_shots(count: int, seed: int = 11) -> list[problems.PoolStrike]:
+    """Seeded shots over the cloth and ball of a table (its cushions left out)."""
+    found = []
+    for shot in reachable_shots(count, seed, with_table=True):
+        kept = tuple(o for o in shot.scene.objects if o.name in ("cloth", "ball"))
+        found.append(dataclasses.replace(shot, scene=dataclasses.replace(shot.scene, objects=kept)))
+    return found
 
 
 def paddle_move() -> problems.PointToPoint:

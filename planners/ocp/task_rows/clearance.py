@@ -14,6 +14,12 @@ numbers are the NLP parameters ``clearance_floor`` and ``clearance_reach`` (one 
 ``clearance_direction`` and ``clearance_behind``, so every shot with the same spheres shares
 one compiled NLP.
 
+With ``Clearance.shoulder``, one more row per pair of a shoulder sphere
+(:func:`planners.ocp.clearance.shoulder_spheres`) and a wrist or cue sphere whose shapes may
+not touch, at every node after the first: :math:`\lVert c_i - c_j \rVert^2 \ge a_k`, the
+square of their radii, the margin and the node extra summed (``clearance_apart``; no more
+than the start holds them apart).
+
 Example::
 
     rows = ClearanceRows.of(problem, Clearance(), ("approach", "strike", "stop"))
@@ -37,6 +43,9 @@ from optraj.planners.ocp.clearance import (
     ball_offset,
     cushion_step,
     pool_spheres,
+    self_pairs,
+    shoulder_spheres,
+    sphere_centres,
     sphere_floors,
 )
 from optraj.planners.ocp.task_rows.base import TaskContext, TaskRows
@@ -51,6 +60,9 @@ FloatArray = NDArray[np.float64]
 #: the size of the parameters ``clearance_floor`` and ``clearance_reach``, whose unused
 #: entries are 0 (Sawyer's wrist has 10, its cue 3).
 SPHERES = 16
+#: Most shoulder-to-wrist or -cue sphere pairs (Sawyer has 131): the size of the parameter
+#: ``clearance_apart``.
+PAIRS = 160
 
 
 #: Extra height kept at the strike window's nodes [m]: the cue runs straight there, the arm's
@@ -70,6 +82,11 @@ class ClearanceRows(TaskRows):
             spheres' first, then zeros.
         reach: Each sphere's radius plus the margin [m], shape (:data:`SPHERES`,).
         cushion: The near cushion's face along x and height above the cloth [m], shape (2,).
+        shoulder: Spheres on the shoulder (:func:`planners.ocp.clearance.shoulder_spheres`),
+            kept apart from the other spheres (``Clearance.shoulder``); else none.
+        pairs: (shoulder index, sphere index) of each pair kept apart.
+        apart: Least squared distance between the centres of each pair [m^2], shape
+            (:data:`PAIRS`,).
         extra: The part of the node extra given back in the strike window [m], all of it but
             :data:`WINDOW_EXTRA`: the strike line holds the motion between its nodes nearly
             straight.
@@ -81,9 +98,12 @@ class ClearanceRows(TaskRows):
 
     window: int
     spheres: tuple[Sphere, ...]
+    shoulder: tuple[Sphere, ...]
+    pairs: tuple[tuple[int, int], ...]
     floors: FloatArray = field(compare=False, repr=False)
     reach: FloatArray = field(compare=False, repr=False)
     cushion: FloatArray = field(compare=False, repr=False)
+    apart: FloatArray = field(compare=False, repr=False)
     extra: float = field(compare=False, repr=False)
     ball: FloatArray = field(compare=False, repr=False)
     direction: FloatArray = field(compare=False, repr=False)
@@ -94,6 +114,7 @@ class ClearanceRows(TaskRows):
         ("clearance_reach", SPHERES),
         ("clearance_cushion", 2),
         ("clearance_extra", 1),
+        ("clearance_apart", PAIRS),
         ("clearance_ball", 3),
         ("clearance_direction", 3),
         ("clearance_behind", 1),
@@ -111,9 +132,29 @@ class ClearanceRows(TaskRows):
         floors, reach = np.zeros(SPHERES), np.zeros(SPHERES)
         floors[: len(spheres)] = sphere_floors(problem, spheres, clearance)
         reach[: len(spheres)] = [sphere.radius + clearance.margin for sphere in spheres]
+        shoulder = shoulder_spheres(problem.robot) if clearance.keeps_shoulder(problem) else ()
+        pairs = self_pairs(problem.robot, shoulder, spheres)
+        if len(pairs) > PAIRS:
+            raise InvalidInputError(
+                f"the robot has {len(pairs)} shoulder sphere pairs, at most {PAIRS} fit",
+                name="clearance",
+            )
+        apart = np.zeros(PAIRS)
+        if pairs:
+            start = problem.q_start
+            at_start = sphere_centres(problem.robot, shoulder, start)[0]
+            mine = sphere_centres(problem.robot, spheres, start)[0]
+            gap = clearance.margin + clearance.node_extra
+            for k, (i, j) in enumerate(pairs):
+                wanted = shoulder[i].radius + spheres[j].radius + gap
+                now = float(np.linalg.norm(at_start[i] - mine[j]))
+                apart[k] = min(wanted, now) ** 2  # no lower than the start holds them
         return cls(
             window=list(phases).index("strike"),
             spheres=spheres,
+            shoulder=shoulder,
+            pairs=pairs,
+            apart=apart,
             floors=floors,
             reach=reach,
             cushion=np.array(cushion_step(problem)),
@@ -130,6 +171,7 @@ class ClearanceRows(TaskRows):
             "clearance_reach": self.reach,
             "clearance_cushion": self.cushion,
             "clearance_extra": np.array([self.extra]),
+            "clearance_apart": self.apart,
             "clearance_ball": self.ball,
             "clearance_direction": self.direction,
             "clearance_behind": np.array([self.behind]),
@@ -138,7 +180,7 @@ class ClearanceRows(TaskRows):
     def add(self, rows: Rows, nlp: TaskContext) -> None:
         """Sphere heights at every node but the first; the tip's half-space on the approach."""
         symbolic, params = nlp.symbolic, nlp.parameters
-        frames = {s.frame for s in self.spheres}
+        frames = {s.frame for s in (*self.spheres, *self.shoulder)}
         pose = {f: (symbolic.frame_position(f), symbolic.frame_rotation(f)) for f in frames}
         first = nlp.layout.first_node
         window = range(int(first[self.window]), int(first[self.window + 1]) + 1)
@@ -152,6 +194,14 @@ class ClearanceRows(TaskRows):
             for sphere in self.spheres:
                 p, r = at_node[sphere.frame]
                 centres.append(p + r @ ca.DM(sphere.offset))
+            if self.pairs:
+                shoulder = [
+                    at_node[s.frame][0] + at_node[s.frame][1] @ ca.DM(s.offset)
+                    for s in self.shoulder
+                ]
+                apart = ca.vertcat(*(ca.sumsqr(shoulder[i] - centres[j]) for i, j in self.pairs))
+                wanted = params["clearance_apart"][: len(self.pairs)]
+                rows.add("clearance self", apart - wanted, 0.0, np.inf, at=node)
             kept = len(self.spheres) - 1 if node in window else len(self.spheres)
             above = ca.vertcat(
                 *(

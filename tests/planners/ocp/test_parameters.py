@@ -45,6 +45,7 @@ def test_a_pool_nlp_reads_its_strike_line_by_name():
         "clearance_reach",
         "clearance_cushion",
         "clearance_extra",
+        "clearance_apart",
         "clearance_ball",
         "clearance_direction",
         "clearance_behind",
