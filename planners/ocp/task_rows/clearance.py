@@ -58,7 +58,7 @@ FloatArray = NDArray[np.float64]
 
 #: Most spheres of :func:`planners.ocp.clearance.pool_spheres` (the last is the cue tip):
 #: the size of the parameters ``clearance_floor`` and ``clearance_reach``, whose unused
-#: entries are 0 (Sawyer's wrist has 10, its cue 3).
+#: entries are 0 (Sawyer's wrist has 11, its cue 3).
 SPHERES = 16
 #: Most shoulder-to-wrist or -cue sphere pairs (Sawyer has 131): the size of the parameter
 #: ``clearance_apart``.
@@ -199,23 +199,20 @@ class ClearanceRows(TaskRows):
                     at_node[s.frame][0] + at_node[s.frame][1] @ ca.DM(s.offset)
                     for s in self.shoulder
                 ]
-                apart = ca.vertcat(*(ca.sumsqr(shoulder[i] - centres[j]) for i, j in self.pairs))
-                wanted = params["clearance_apart"][: len(self.pairs)]
-                rows.add("clearance self", apart - wanted, 0.0, np.inf, at=node)
+                wanted = params["clearance_apart"]
+                for k, (i, j) in enumerate(self.pairs):  # a group per pair: a failure names it
+                    apart = ca.sumsqr(shoulder[i] - centres[j]) - wanted[k]
+                    name = f"clearance self: {self.spheres[j].name} from {self.shoulder[i].name}"
+                    rows.add(name, apart, 0.0, np.inf, at=node)
             kept = len(self.spheres) - 1 if node in window else len(self.spheres)
-            above = ca.vertcat(
-                *(
-                    c[2]
-                    - floors[i]
-                    - height
-                    * 0.5
-                    * (1.0 + ca.tanh((face + reach[i] + 2.0 * STEP_WIDTH - c[0]) / STEP_WIDTH))
-                    for i, c in enumerate(centres[:kept])
+            given = params["clearance_extra"] if node in window else 0.0
+            for i, c in enumerate(centres[:kept]):  # a group per sphere, as above
+                rise = 0.5 * (
+                    1.0 + ca.tanh((face + reach[i] + 2.0 * STEP_WIDTH - c[0]) / STEP_WIDTH)
                 )
-            )
-            if node in window:
-                above = above + params["clearance_extra"]
-            rows.add("clearance cloth", above, 0.0, np.inf, at=node)
+                above = c[2] - floors[i] - height * rise + given
+                name = f"clearance cloth: {self.spheres[i].name}"
+                rows.add(name, above, 0.0, np.inf, at=node)
             if node < window[0]:
                 ahead = ca.dot(
                     params["clearance_direction"], centres[-1] - params["clearance_ball"]

@@ -16,8 +16,13 @@ PHASES = ("approach", "strike", "stop")
 
 
 def _group_rows(built, name: str) -> list[int]:
-    """The node of every row of group ``name``."""
-    rows = [i for group, a, b in built.compiled.groups if group == name for i in range(a, b)]
+    """The node of every row of group ``name`` (or of the groups ``name: <sphere>``)."""
+    rows = [
+        i
+        for group, a, b in built.compiled.groups
+        if group == name or group.startswith(f"{name}: ")
+        for i in range(a, b)
+    ]
     return built.compiled.row_at[rows].tolist()
 
 
@@ -62,6 +67,19 @@ def test_the_nlp_has_cloth_rows_at_every_node_but_the_first_and_ball_rows_on_the
     assert _group_rows(built, "clearance ball") == [1, 2, 3, 4, 5]
     plain = OptimalControl(clearance=None).build(shot)
     assert not any(name.startswith("clearance") for name, _, _ in plain.compiled.groups)
+
+
+def test_over_a_table_every_sphere_and_pair_has_its_own_named_rows():
+    # A failed solve's diagnosis names the group of its most violated row: here the sphere,
+    # or the two spheres kept apart, not just "clearance".
+    shot = problems.sawyer_pool_shot(1.0, with_table=True)
+    rows = ClearanceRows.of(shot, Clearance(), PHASES)
+    assert len(rows.spheres) == 14 and len(rows.pairs) == 131  # 11 on the wrist, 3 on the cue
+    built = OptimalControl(intervals={"approach": 4, "strike": 3, "stop": 3}).build(shot)
+    names = {name for name, _, _ in built.compiled.groups}
+    assert {f"clearance cloth: {s.name}" for s in rows.spheres} <= names
+    assert "clearance self: cue tip from link_4 end 1" in names
+    assert len(_group_rows(built, "clearance self")) == 131 * 10  # every node but the first
 
 
 #: Shots planned with the shoulder's rows, and the least planned (measured: 11 of 12).
